@@ -1,0 +1,50 @@
+// sgslam: real-time RGB-D SLAM for dynamic scenes (after SG-SLAM).
+// This file only dispatches to the subcommands (see commands.h).
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+#include <map>
+
+#include "commands.h"
+#include "sgslam/common/error.h"
+
+int main(int argc, char** argv) {
+  using namespace sgslam::app;
+  CLI::App root{"sgslam: real-time RGB-D visual SLAM for dynamic scenes (after SG-SLAM)"};
+  root.require_subcommand(1);
+  int verbosity = 0;
+  root.add_flag("-v,--verbose", verbosity, "More log output (repeat for debug output)");
+  bool quiet = false;
+  root.add_flag("-q,--quiet", quiet, "Only warnings and errors");
+
+  std::map<const CLI::App*, Action> actions;
+  const auto add = [&](Action a) { actions[root.get_subcommands({}).back()] = std::move(a); };
+  add(AddRunCommand(root));
+  add(AddEvalCommand(root));
+  add(AddSynthCommand(root));
+  add(AddDemoCommand(root));
+
+  try {
+    root.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = root.exit(e);
+    return code == 0 ? kExitOk : kExitUsage;
+  }
+  spdlog::set_pattern("[%l] %v");
+  spdlog::set_level(quiet ? spdlog::level::warn
+                          : verbosity >= 2 ? spdlog::level::trace
+                          : verbosity == 1 ? spdlog::level::debug
+                                           : spdlog::level::info);
+  try {
+    for (const CLI::App* sub : root.get_subcommands()) return actions.at(sub)();
+  } catch (const sgslam::Error& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return kExitError;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: unexpected failure: %s\n", e.what());
+    return kExitError;
+  }
+  return kExitUsage;
+}

@@ -1,0 +1,27 @@
+// Timestamps are int64 nanoseconds everywhere (architecture.md). TUM files write
+// seconds with up to 9 decimals; parsing the decimal text directly keeps them exact,
+// so association and file round trips never suffer from double rounding.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace sgslam {
+
+using Timestamp = std::int64_t;  // ns
+
+constexpr Timestamp kNsPerSecond = 1'000'000'000;
+
+// Parses "1305031229.528748" (seconds, optional fraction, optional sign).
+// Returns nullopt for anything else (the caller names file and line).
+std::optional<Timestamp> ParseTimestamp(std::string_view text);
+
+// Seconds with 6 decimals, the precision of the TUM files ("1305031229.528748").
+std::string FormatTimestamp(Timestamp t);
+
+inline double ToSeconds(Timestamp t) { return static_cast<double>(t) * 1e-9; }
+inline Timestamp FromSeconds(double s) { return static_cast<Timestamp>(s * 1e9 + (s >= 0 ? 0.5 : -0.5)); }
+
+}  // namespace sgslam

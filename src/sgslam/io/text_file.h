@@ -1,0 +1,26 @@
+// Reading the line-based text files of the TUM layout, and saving files so that a
+// crash or a full disk never leaves a half-written result behind.
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace sgslam {
+
+// Calls fn(line_number, tokens) for every line that is not blank and does not start
+// with '#'. Tokens are split on spaces, tabs and commas, as TUM's tools do.
+// Throws InputError naming the path when the file is missing or unreadable.
+void ForEachDataLine(const std::filesystem::path& path,
+                     const std::function<void(int line, const std::vector<std::string_view>& tokens)>& fn);
+
+// Parses a double; throws ParseError(path, line) naming the field when it is not one.
+double ParseNumber(std::string_view token, const std::filesystem::path& path, int line, const char* what);
+
+// Writes to "<path>.tmp" and renames over path, so readers see the old or the new
+// file, never a torn one. Throws InputError naming the path on failure.
+void WriteFileAtomically(const std::filesystem::path& path, const std::string& content);
+
+}  // namespace sgslam
