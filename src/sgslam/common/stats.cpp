@@ -1,0 +1,33 @@
+#include "sgslam/common/stats.h"
+
+#include <algorithm>
+#include <fstream>
+#include <string>
+
+namespace sgslam {
+
+double Median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  const std::size_t n = values.size();
+  std::nth_element(values.begin(), values.begin() + n / 2, values.end());
+  const double upper = values[n / 2];
+  if (n % 2 == 1) return upper;
+  const double lower = *std::max_element(values.begin(), values.begin() + n / 2);
+  return 0.5 * (lower + upper);
+}
+
+double PeakRssMiB() {
+  std::ifstream status("/proc/self/status");
+  std::string key;
+  while (status >> key) {
+    if (key == "VmHWM:") {
+      double kib = 0;
+      status >> kib;
+      return kib / 1024.0;
+    }
+    status.ignore(4096, '\n');
+  }
+  return 0.0;
+}
+
+}  // namespace sgslam

@@ -1,0 +1,104 @@
+#include "sgslam/config/yaml_io.h"
+
+#include <spdlog/spdlog.h>
+#include <yaml-cpp/yaml.h>
+
+#include <iomanip>
+#include <set>
+#include <sstream>
+#include <type_traits>
+
+#include "sgslam/common/error.h"
+
+namespace sgslam {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string Where(const fs::path& file, const YAML::Node& node) {
+  return file.string() + ":" + std::to_string(node.Mark().line + 1);
+}
+
+template <class T>
+void ReadValue(const fs::path& file, const std::string& key, const YAML::Node& node, T& out) {
+  if (!node.IsScalar()) throw ConfigError(Where(file, node) + ": " + key + " must be a single value");
+  try {
+    if constexpr (std::is_same_v<T, bool>) {
+      out = node.as<bool>();
+    } else if constexpr (std::is_integral_v<T>) {
+      // as<int>() accepts "3.7" on some yaml-cpp versions; require an integer text.
+      const std::string text = node.Scalar();
+      std::size_t used = 0;
+      const long long v = std::stoll(text, &used);
+      if (used != text.size()) throw YAML::BadConversion(node.Mark());
+      out = static_cast<T>(v);
+    } else {
+      out = node.as<T>();
+    }
+  } catch (const std::exception&) {
+    const char* type = std::is_same_v<T, bool> ? "true or false"
+                       : std::is_integral_v<T> ? "an integer"
+                       : std::is_floating_point_v<T> ? "a number"
+                                                     : "a string";
+    throw ConfigError(Where(file, node) + ": " + key + " must be " + type + ", got '" + node.Scalar() + "'");
+  }
+}
+
+}  // namespace
+
+void LoadConfigFile(const fs::path& file, Config& config) {
+  std::error_code ec;
+  if (!fs::is_regular_file(file, ec)) throw ConfigError("config file not found: " + file.string());
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(file.string());
+  } catch (const YAML::Exception& e) {
+    throw ConfigError("cannot parse config file " + file.string() + ": " + e.what());
+  }
+  if (root.IsNull()) return;  // an empty file changes nothing
+  if (!root.IsMap()) throw ConfigError(file.string() + ": the top level must be a map of sections");
+
+  std::set<std::string> known_sections;
+  config.VisitSections([&](const char* name, auto& section) {
+    known_sections.insert(name);
+    const YAML::Node node = root[name];
+    if (!node) return;
+    if (!node.IsMap()) throw ConfigError(Where(file, node) + ": section '" + name + "' must be a map");
+    std::set<std::string> known_keys;
+    section.Visit([&](const char* key, auto& value, const char*) {
+      known_keys.insert(key);
+      if (const YAML::Node v = node[key]) ReadValue(file, std::string(name) + "." + key, v, value);
+    });
+    for (const auto& kv : node) {
+      const std::string key = kv.first.Scalar();
+      if (!known_keys.count(key)) {
+        spdlog::warn("{}: unknown key '{}.{}' ignored", Where(file, kv.first), name, key);
+      }
+    }
+  });
+  for (const auto& kv : root) {
+    const std::string name = kv.first.Scalar();
+    if (!known_sections.count(name)) spdlog::warn("{}: unknown section '{}' ignored", Where(file, kv.first), name);
+  }
+}
+
+std::string ConfigToYaml(const Config& config) {
+  std::ostringstream out;
+  out << std::setprecision(10);
+  config.VisitSections([&](const char* name, auto& section) {
+    out << name << ":\n";
+    section.Visit([&](const char* key, const auto& value, const char* unit) {
+      out << "  " << key << ": ";
+      if constexpr (std::is_same_v<std::decay_t<decltype(value)>, bool>) {
+        out << (value ? "true" : "false");
+      } else {
+        out << value;
+      }
+      out << "  # " << unit << "\n";
+    });
+  });
+  return out.str();
+}
+
+}  // namespace sgslam

@@ -1,0 +1,158 @@
+#include "sgslam/io/tum_dataset.h"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "sgslam/common/error.h"
+#include "sgslam/common/stats.h"
+#include "sgslam/io/association.h"
+#include "sgslam/io/text_file.h"
+
+namespace sgslam {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct ListEntry {
+  Timestamp t;
+  fs::path path;
+  int line;
+};
+
+std::vector<ListEntry> ReadList(const fs::path& file, const fs::path& dir) {
+  std::vector<ListEntry> entries;
+  ForEachDataLine(file, [&](int line, const std::vector<std::string_view>& tok) {
+    if (tok.size() != 2) {
+      throw ParseError(file.string(), line, "expected 'timestamp path', got " + std::to_string(tok.size()) + " fields");
+    }
+    const auto t = ParseTimestamp(tok[0]);
+    if (!t) throw ParseError(file.string(), line, "bad timestamp '" + std::string(tok[0]) + "'");
+    entries.push_back({*t, dir / fs::path(std::string(tok[1])), line});
+  });
+  std::stable_sort(entries.begin(), entries.end(), [](const ListEntry& a, const ListEntry& b) { return a.t < b.t; });
+  return entries;
+}
+
+std::string Describe(const cv::Mat& m) {
+  const char* depth[] = {"8-bit", "8-bit signed", "16-bit", "16-bit signed", "32-bit int", "32-bit float",
+                         "64-bit float", "16-bit float"};
+  return std::string(depth[m.depth()]) + " " + std::to_string(m.channels()) + "-channel";
+}
+
+}  // namespace
+
+TumDataset::TumDataset(const fs::path& dir, const DatasetConfig& config) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw InputError("dataset folder not found: " + dir.string());
+  dir_ = fs::canonical(dir, ec);
+  const fs::path associations = dir_ / "associations.txt";
+  if (fs::is_regular_file(associations, ec)) {
+    associations_from_file_ = true;
+    ForEachDataLine(associations, [&](int line, const std::vector<std::string_view>& tok) {
+      if (tok.size() < 4) {
+        throw ParseError(associations.string(), line, "expected 't_rgb rgb_path t_depth depth_path'");
+      }
+      const auto t_rgb = ParseTimestamp(tok[0]);
+      const auto t_depth = ParseTimestamp(tok[2]);
+      if (!t_rgb || !t_depth) throw ParseError(associations.string(), line, "bad timestamp");
+      frames_.push_back({*t_rgb, *t_depth, dir_ / std::string(tok[1]), dir_ / std::string(tok[3]),
+                         "associations.txt:" + std::to_string(line)});
+    });
+    std::stable_sort(frames_.begin(), frames_.end(),
+                     [](const FrameRecord& a, const FrameRecord& b) { return a.t_rgb < b.t_rgb; });
+  } else {
+    for (const char* list : {"rgb.txt", "depth.txt"}) {
+      if (!fs::is_regular_file(dir_ / list, ec)) {
+        throw InputError("missing " + (dir_ / list).string() +
+                         " (a TUM RGB-D folder needs rgb.txt and depth.txt, or associations.txt)");
+      }
+    }
+    const auto rgb = ReadList(dir_ / "rgb.txt", dir_);
+    const auto depth = ReadList(dir_ / "depth.txt", dir_);
+    std::vector<Timestamp> t_rgb, t_depth;
+    for (const auto& e : rgb) t_rgb.push_back(e.t);
+    for (const auto& e : depth) t_depth.push_back(e.t);
+    const auto matches = AssociateByTime(t_rgb, t_depth, FromSeconds(config.max_time_difference));
+    for (const auto& [i, j] : matches) {
+      frames_.push_back({rgb[i].t, depth[j].t, rgb[i].path, depth[j].path, "rgb.txt:" + std::to_string(rgb[i].line)});
+    }
+    if (frames_.empty()) {
+      throw InputError("empty sequence in " + dir_.string() + ": rgb.txt has " + std::to_string(rgb.size()) +
+                       " images, depth.txt " + std::to_string(depth.size()) + ", and no pair is within " +
+                       std::to_string(config.max_time_difference) + " s");
+    }
+    spdlog::debug("associated {} of {} RGB and {} depth images", frames_.size(), rgb.size(), depth.size());
+  }
+  if (frames_.empty()) throw InputError("empty sequence: " + associations.string() + " lists no frame");
+}
+
+std::string TumDataset::name() const { return dir_.filename().string(); }
+
+std::optional<fs::path> TumDataset::groundtruth_path() const {
+  std::error_code ec;
+  const fs::path p = dir_ / "groundtruth.txt";
+  if (fs::is_regular_file(p, ec)) return p;
+  return std::nullopt;
+}
+
+RgbdImages TumDataset::Load(std::size_t i, const CameraConfig& camera) const {
+  const FrameRecord& r = frames_.at(i);
+  const auto read = [&](const fs::path& p, int flags) {
+    std::error_code ec;
+    if (!fs::is_regular_file(p, ec)) throw InputError("image missing: " + p.string() + " (listed in " + r.listed_at + ")");
+    cv::Mat m = cv::imread(p.string(), flags);
+    if (m.empty()) throw InputError("cannot read image (corrupt or not an image): " + p.string());
+    return m;
+  };
+  RgbdImages out;
+  out.index = i;
+  out.t = r.t_rgb;
+  out.bgr = read(r.rgb, cv::IMREAD_UNCHANGED);
+  out.depth = read(r.depth, cv::IMREAD_UNCHANGED);
+  if (out.depth.type() != CV_16UC1) {
+    throw InputError("depth image " + r.depth.string() + " is " + Describe(out.depth) +
+                     "; expected a 16-bit single-channel PNG");
+  }
+  if (out.bgr.depth() != CV_8U || (out.bgr.channels() != 1 && out.bgr.channels() != 3 && out.bgr.channels() != 4)) {
+    throw InputError("RGB image " + r.rgb.string() + " is " + Describe(out.bgr) + "; expected 8-bit colour");
+  }
+  if (out.bgr.channels() == 1) cv::cvtColor(out.bgr, out.bgr, cv::COLOR_GRAY2BGR);
+  if (out.bgr.channels() == 4) cv::cvtColor(out.bgr, out.bgr, cv::COLOR_BGRA2BGR);
+  if (out.bgr.size() != out.depth.size()) {
+    throw InputError("RGB and depth sizes differ: " + r.rgb.string() + " is " + std::to_string(out.bgr.cols) + "x" +
+                     std::to_string(out.bgr.rows) + ", " + r.depth.string() + " is " +
+                     std::to_string(out.depth.cols) + "x" + std::to_string(out.depth.rows));
+  }
+  if (out.bgr.cols != camera.width || out.bgr.rows != camera.height) {
+    throw InputError("image " + r.rgb.string() + " is " + std::to_string(out.bgr.cols) + "x" +
+                     std::to_string(out.bgr.rows) + " but the camera config says camera.width x camera.height = " +
+                     std::to_string(camera.width) + "x" + std::to_string(camera.height));
+  }
+  return out;
+}
+
+void CheckDepthScale(const RgbdImages& frame, const FrameRecord& record, const CameraConfig& camera,
+                     const DatasetConfig& dataset) {
+  std::vector<double> depths;
+  for (int v = 0; v < frame.depth.rows; v += 4) {
+    const auto* row = frame.depth.ptr<std::uint16_t>(v);
+    for (int u = 0; u < frame.depth.cols; u += 4) {
+      if (row[u] != 0) depths.push_back(row[u] / camera.depth_factor);
+    }
+  }
+  if (depths.size() < 100) return;  // nothing to judge by; tracking will report the lack of depth
+  const double median = Median(std::move(depths));
+  if (median < dataset.min_median_depth || median > dataset.max_median_depth) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.3g", median);
+    throw InputError("depth image " + record.depth.string() + " has a median depth of " + buf +
+                     " m with camera.depth_factor = " + std::to_string(camera.depth_factor) +
+                     "; the depth scale is wrong for this data (TUM and Bonn use 5000, many sensors 1000)");
+  }
+}
+
+}  // namespace sgslam
