@@ -3,7 +3,7 @@
 #include <spdlog/spdlog.h>
 #include <yaml-cpp/yaml.h>
 
-#include <iomanip>
+#include <charconv>
 #include <set>
 #include <sstream>
 #include <type_traits>
@@ -85,13 +85,17 @@ void LoadConfigFile(const fs::path& file, Config& config) {
 
 std::string ConfigToYaml(const Config& config) {
   std::ostringstream out;
-  out << std::setprecision(10);
   config.VisitSections([&](const char* name, auto& section) {
     out << name << ":\n";
     section.Visit([&](const char* key, const auto& value, const char* unit) {
       out << "  " << key << ": ";
-      if constexpr (std::is_same_v<std::decay_t<decltype(value)>, bool>) {
+      using T = std::decay_t<decltype(value)>;
+      if constexpr (std::is_same_v<T, bool>) {
         out << (value ? "true" : "false");
+      } else if constexpr (std::is_floating_point_v<T>) {
+        char buf[64];  // shortest text that reads back to the same double
+        const auto r = std::to_chars(buf, buf + sizeof buf, value);
+        out << std::string_view(buf, static_cast<std::size_t>(r.ptr - buf));
       } else {
         out << value;
       }

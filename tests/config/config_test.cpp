@@ -1,0 +1,101 @@
+#include "sgslam/config/config.h"
+
+#include <gtest/gtest.h>
+
+#include "sgslam/camera/presets.h"
+#include "sgslam/common/error.h"
+#include "sgslam/config/yaml_io.h"
+#include "support/test_support.h"
+
+namespace sgslam {
+namespace {
+
+using test::TempDir;
+using test::WriteText;
+
+std::string ErrorOf(const std::function<void()>& fn) {
+  try {
+    fn();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(Config, DefaultsAreValid) { EXPECT_NO_THROW(Config{}.Validate("defaults")); }
+
+TEST(Config, LoadsValuesAndKeepsTheRest) {
+  TempDir tmp;
+  WriteText(tmp / "c.yaml", "camera:\n  fx: 500.5\n  width: 320\n  cx: 100\ndataset:\n  prefetch: 7\n");
+  Config c;
+  LoadConfigFile(tmp / "c.yaml", c);
+  EXPECT_DOUBLE_EQ(c.camera.fx, 500.5);
+  EXPECT_EQ(c.camera.width, 320);
+  EXPECT_EQ(c.dataset.prefetch, 7);
+  EXPECT_DOUBLE_EQ(c.camera.fy, CameraConfig{}.fy);
+}
+
+TEST(Config, UnknownKeysAreNotFatal) {
+  TempDir tmp;
+  WriteText(tmp / "c.yaml", "camera:\n  fxx: 1\nnot_a_section:\n  a: 1\n");
+  Config c;
+  EXPECT_NO_THROW(LoadConfigFile(tmp / "c.yaml", c));
+  EXPECT_DOUBLE_EQ(c.camera.fx, CameraConfig{}.fx);
+}
+
+TEST(Config, TypeErrorsNameFileLineAndKey) {
+  TempDir tmp;
+  WriteText(tmp / "c.yaml", "camera:\n  fx: 500\n  width: 640.5\n");
+  Config c;
+  const std::string e = ErrorOf([&] { LoadConfigFile(tmp / "c.yaml", c); });
+  EXPECT_NE(e.find("c.yaml:3"), std::string::npos) << e;
+  EXPECT_NE(e.find("camera.width must be an integer"), std::string::npos) << e;
+  WriteText(tmp / "d.yaml", "camera:\n  fy: abc\n");
+  const std::string e2 = ErrorOf([&] { LoadConfigFile(tmp / "d.yaml", c); });
+  EXPECT_NE(e2.find("camera.fy must be a number, got 'abc'"), std::string::npos) << e2;
+  WriteText(tmp / "e.yaml", "camera: [1, 2]\n");
+  EXPECT_NE(ErrorOf([&] { LoadConfigFile(tmp / "e.yaml", c); }).find("section 'camera' must be a map"),
+            std::string::npos);
+  WriteText(tmp / "f.yaml", "camera:\n  fx: [1\n");
+  EXPECT_NE(ErrorOf([&] { LoadConfigFile(tmp / "f.yaml", c); }).find("cannot parse config file"), std::string::npos);
+  EXPECT_NE(ErrorOf([&] { LoadConfigFile(tmp / "missing.yaml", c); }).find("missing.yaml"), std::string::npos);
+}
+
+TEST(Config, ValidateListsEveryBadValueWithItsKey) {
+  Config c;
+  c.camera.fx = -1;
+  c.camera.fps = 0;
+  c.dataset.prefetch = 0;
+  const std::string e = ErrorOf([&] { c.Validate("my.yaml"); });
+  EXPECT_NE(e.find("my.yaml"), std::string::npos) << e;
+  EXPECT_NE(e.find("camera.fx = -1: must be > 0"), std::string::npos) << e;
+  EXPECT_NE(e.find("camera.fps = 0"), std::string::npos) << e;
+  EXPECT_NE(e.find("dataset.prefetch = 0"), std::string::npos) << e;
+}
+
+TEST(Config, PrintedYamlLoadsBackToTheSameValues) {
+  Config a;
+  a.camera.fx = 123.456789012;
+  a.camera.k1 = -0.25;
+  a.dataset.prefetch = 9;
+  TempDir tmp;
+  WriteText(tmp / "a.yaml", ConfigToYaml(a));
+  Config b;
+  LoadConfigFile(tmp / "a.yaml", b);
+  EXPECT_EQ(ConfigToYaml(a), ConfigToYaml(b));
+  EXPECT_DOUBLE_EQ(b.camera.fx, a.camera.fx);
+}
+
+TEST(Config, ShippedConfigFilesMatchTheBuiltInPresets) {
+  for (const std::string& name : CameraPresetNames()) {
+    Config c;
+    LoadConfigFile(test::SourceDir() / "configs" / (name + ".yaml"), c);
+    c.Validate(name);
+    Config p;
+    p.camera = *CameraPreset(name);
+    EXPECT_EQ(ConfigToYaml(c), ConfigToYaml(p)) << name;
+  }
+}
+
+}  // namespace
+}  // namespace sgslam

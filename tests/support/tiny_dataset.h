@@ -1,0 +1,17 @@
+// Small TUM-layout datasets written on the fly, for reader and command-line tests.
+#pragma once
+
+#include <filesystem>
+
+#include "sgslam/config/config.h"
+
+namespace sgslam::test {
+
+// The camera of the tiny datasets: 64x48, pinhole, no distortion.
+CameraConfig TinyCamera();
+
+// Writes n frames (rgb/, depth/ PNGs at 2 m depth, rgb.txt, depth.txt, and a
+// sgslam.yaml with TinyCamera) at 30 Hz into dir. Depth stamps lag RGB by 5 ms.
+void WriteTinyDataset(const std::filesystem::path& dir, int n);
+
+}  // namespace sgslam::test
