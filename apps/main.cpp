@@ -13,7 +13,7 @@
 int main(int argc, char** argv) {
   using namespace sgslam::app;
   CLI::App root{"sgslam: real-time RGB-D visual SLAM for dynamic scenes (after SG-SLAM)"};
-  root.require_subcommand(1);
+  root.require_subcommand(0, 1);  // so an unknown word is reported as such
   int verbosity = 0;
   root.add_flag("-v,--verbose", verbosity, "More log output (repeat for debug output)");
   bool quiet = false;
@@ -37,6 +37,10 @@ int main(int argc, char** argv) {
                           : verbosity >= 2 ? spdlog::level::trace
                           : verbosity == 1 ? spdlog::level::debug
                                            : spdlog::level::info);
+  if (root.get_subcommands().empty()) {
+    std::fprintf(stderr, "%s\nerror: a subcommand is required (run, eval, synth or demo)\n", root.help().c_str());
+    return kExitUsage;
+  }
   try {
     for (const CLI::App* sub : root.get_subcommands()) return actions.at(sub)();
   } catch (const sgslam::Error& e) {

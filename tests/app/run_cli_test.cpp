@@ -1,0 +1,129 @@
+// `sgslam run` as a user meets it: every bad input ends with a non-zero exit status
+// and a message that names the file, line, key or value at fault.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <opencv2/imgcodecs.hpp>
+
+#include "support/test_support.h"
+#include "support/tiny_dataset.h"
+
+namespace sgslam {
+namespace {
+
+namespace fs = std::filesystem;
+using test::RunSgslam;
+using test::TempDir;
+
+void ExpectFailure(const std::vector<std::string>& args, int code, std::initializer_list<std::string> parts) {
+  const auto r = RunSgslam(args);
+  EXPECT_EQ(r.exit_code, code) << r.output;
+  for (const auto& p : parts) EXPECT_NE(r.output.find(p), std::string::npos) << "'" << p << "' not in: " << r.output;
+}
+
+std::vector<std::string> RunArgs(const TempDir& tmp, const std::string& dataset = "seq") {
+  return {"run", "--dataset", (tmp / dataset).string(), "--out", (tmp / "out").string(), "--mode", "none"};
+}
+
+fs::path NthFile(const fs::path& dir, std::size_t n) {
+  std::vector<fs::path> v(fs::directory_iterator(dir), fs::directory_iterator{});
+  std::sort(v.begin(), v.end());
+  return v.at(n);
+}
+
+TEST(RunCommand, GoodDatasetWritesConfigFramesAndStats) {
+  TempDir tmp;
+  test::WriteTinyDataset(tmp / "seq", 4);
+  const auto r = RunSgslam(RunArgs(tmp));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("no trajectory.txt was written"), std::string::npos) << r.output;  // says what it cannot do
+  EXPECT_FALSE(fs::exists(tmp / "out" / "trajectory.txt"));
+  EXPECT_TRUE(fs::exists(tmp / "out" / "config_used.yaml"));
+  std::ifstream stats_file(tmp / "out" / "stats.json");
+  const auto stats = nlohmann::json::parse(stats_file);
+  EXPECT_EQ(stats["frames"], 4);
+  std::ifstream csv(tmp / "out" / "frames.csv");
+  std::string line;
+  int rows = 0;
+  while (std::getline(csv, line)) ++rows;
+  EXPECT_EQ(rows, 5);  // header + 4 frames
+}
+
+TEST(RunCommand, UsageErrorsExitWith2) {
+  ExpectFailure({"run"}, 2, {"--dataset"});
+  ExpectFailure({"run", "--dataset", "x", "--mode", "magic"}, 2, {"magic"});
+  ExpectFailure({"frobnicate"}, 2, {"frobnicate"});
+}
+
+TEST(RunCommand, MissingDatasetFolderAndListFile) {
+  TempDir tmp;
+  ExpectFailure(RunArgs(tmp, "absent"), 1, {"dataset folder not found", "absent"});
+  fs::create_directories(tmp / "empty");
+  ExpectFailure(RunArgs(tmp, "empty"), 1, {"rgb.txt"});
+}
+
+TEST(RunCommand, MalformedLineNamesFileAndLine) {
+  TempDir tmp;
+  test::WriteTinyDataset(tmp / "seq", 3);
+  std::ofstream(tmp / "seq" / "rgb.txt", std::ios::app) << "123.0\n";
+  ExpectFailure(RunArgs(tmp), 1, {"rgb.txt:5", "expected 'timestamp path'"});
+}
+
+TEST(RunCommand, EmptySequence) {
+  TempDir tmp;
+  test::WriteTinyDataset(tmp / "seq", 2);
+  test::WriteText(tmp / "seq" / "rgb.txt", "# color images\n");
+  ExpectFailure(RunArgs(tmp), 1, {"empty sequence", "rgb.txt has 0 images"});
+}
+
+TEST(RunCommand, MissingAndCorruptImages) {
+  TempDir tmp;
+  test::WriteTinyDataset(tmp / "seq", 3);
+  const fs::path rgb = NthFile(tmp / "seq" / "rgb", 1);
+  fs::remove(rgb);
+  ExpectFailure(RunArgs(tmp), 1, {"image missing", rgb.string()});
+  test::WriteText(rgb, "garbage");
+  ExpectFailure(RunArgs(tmp), 1, {"cannot read image", rgb.string()});
+}
+
+TEST(RunCommand, DepthOfWrongTypeOrSize) {
+  TempDir tmp;
+  test::WriteTinyDataset(tmp / "seq", 2);
+  const fs::path depth = NthFile(tmp / "seq" / "depth", 0);
+  cv::imwrite(depth.string(), cv::Mat(48, 64, CV_8UC1, cv::Scalar(7)));
+  ExpectFailure(RunArgs(tmp), 1, {depth.string(), "8-bit 1-channel", "16-bit single-channel"});
+  cv::imwrite(depth.string(), cv::Mat(20, 30, CV_16UC1, cv::Scalar(10000)));
+  ExpectFailure(RunArgs(tmp), 1, {"RGB and depth sizes differ", depth.string(), "30x20"});
+}
+
+TEST(RunCommand, WrongDepthScale) {
+  TempDir tmp;
+  test::WriteTinyDataset(tmp / "seq", 2);
+  std::ofstream(tmp / "seq" / "sgslam.yaml", std::ios::app) << "  depth_factor: 100\n";
+  ExpectFailure(RunArgs(tmp), 1, {"median depth of 100 m", "depth_factor"});
+}
+
+TEST(RunCommand, BrokenConfigValuesNameKeyAndFile) {
+  TempDir tmp;
+  test::WriteTinyDataset(tmp / "seq", 2);
+  test::WriteText(tmp / "bad.yaml", "camera:\n  fx: -5\n");
+  auto args = RunArgs(tmp);
+  args.insert(args.end(), {"--config", (tmp / "bad.yaml").string()});
+  ExpectFailure(args, 1, {"bad.yaml", "camera.fx = -5: must be > 0"});
+  test::WriteText(tmp / "bad.yaml", "camera:\n  fx: fast\n");
+  ExpectFailure(args, 1, {"bad.yaml:2", "camera.fx must be a number"});
+  args.back() = (tmp / "nope.yaml").string();
+  ExpectFailure(args, 1, {"config file not found", "nope.yaml"});
+}
+
+TEST(RunCommand, ImageSizeDifferentFromCamera) {
+  TempDir tmp;
+  test::WriteTinyDataset(tmp / "seq", 2);
+  fs::remove(tmp / "seq" / "sgslam.yaml");  // falls back to the 640x480 TUM fr1 camera
+  ExpectFailure(RunArgs(tmp), 1, {"64x48", "camera.width"});
+}
+
+}  // namespace
+}  // namespace sgslam
