@@ -1,0 +1,7 @@
+#!/usr/bin/env bash
+# Sets up and builds when needed, then runs `sgslam demo`: a generated dynamic
+# sequence, processed and evaluated. Extra arguments go to `sgslam demo`.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/setup.sh
+build/sgslam demo "$@"

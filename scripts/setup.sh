@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# Installs the Debian packages sgslam needs (only the missing ones; apt-get update
+# only when something must be installed) and configures and builds a Release build.
+#   scripts/setup.sh [--no-build] [--asan|--tsan]   (build folder: build, build-asan, build-tsan)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+PACKAGES=(
+  cmake g++ make pkg-config
+  libeigen3-dev libopencv-dev libceres-dev liboctomap-dev
+  libyaml-cpp-dev libcli11-dev libspdlog-dev nlohmann-json3-dev
+  libgtest-dev libbenchmark-dev
+)
+
+build=1
+build_dir=build
+cmake_flags=(-DCMAKE_BUILD_TYPE=Release)
+for arg in "$@"; do
+  case "$arg" in
+    --no-build) build=0 ;;
+    --asan) build_dir=build-asan; cmake_flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DSGSLAM_ASAN=ON -DSGSLAM_BUILD_BENCH=OFF) ;;
+    --tsan) build_dir=build-tsan; cmake_flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DSGSLAM_TSAN=ON -DSGSLAM_BUILD_BENCH=OFF) ;;
+    *) echo "setup.sh: unknown option '$arg' (use --no-build, --asan or --tsan)" >&2; exit 2 ;;
+  esac
+done
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if [ "$(dpkg-query -W -f='${Status}' "$p" 2>/dev/null)" != "install ok installed" ]; then missing+=("$p"); fi
+done
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "setup: installing ${missing[*]}"
+  SUDO=""
+  if [ "$(id -u)" -ne 0 ]; then
+    command -v sudo >/dev/null || { echo "setup: need root or sudo to install: ${missing[*]}" >&2; exit 1; }
+    SUDO=sudo
+  fi
+  export DEBIAN_FRONTEND=noninteractive
+  $SUDO apt-get update -q
+  $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
+else
+  echo "setup: all ${#PACKAGES[@]} packages present"
+fi
+
+if [ "$build" = 1 ]; then
+  jobs=$(nproc 2>/dev/null || echo 2)
+  cmake -S . -B "$build_dir" "${cmake_flags[@]}" >/dev/null
+  cmake --build "$build_dir" -j "$jobs"
+  echo "setup: built $build_dir/sgslam"
+fi
