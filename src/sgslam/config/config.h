@@ -67,14 +67,37 @@ struct DatasetConfig {
   void Validate(ConfigChecker& c) const;
 };
 
+// ORB features (ORB-SLAM2's settings for 640x480 RGB-D).
+struct OrbConfig {
+  int features = 1000;           // keypoints per frame, spread over levels and image cells
+  double scale_factor = 1.2;     // ratio between pyramid levels
+  int levels = 8;                // pyramid levels
+  int fast_threshold = 20;       // intensity, FAST threshold tried first in each cell
+  int fast_min_threshold = 7;    // intensity, fallback for cells where the first finds nothing
+  int cell_size = 35;            // px, FAST is run per cell of this size
+
+  template <class V>
+  void Visit(V&& v) {
+    v("features", features, "keypoints per frame");
+    v("scale_factor", scale_factor, "ratio between pyramid levels");
+    v("levels", levels, "pyramid levels");
+    v("fast_threshold", fast_threshold, "intensity, FAST threshold");
+    v("fast_min_threshold", fast_min_threshold, "intensity, FAST fallback threshold");
+    v("cell_size", cell_size, "px, FAST cell size");
+  }
+  void Validate(ConfigChecker& c) const;
+};
+
 struct Config {
   CameraConfig camera;
   DatasetConfig dataset;
+  OrbConfig orb;
 
   template <class V>
   void VisitSections(V&& v) {
     v("camera", camera);
     v("dataset", dataset);
+    v("orb", orb);
   }
   template <class V>
   void VisitSections(V&& v) const {
