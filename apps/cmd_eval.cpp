@@ -1,13 +1,62 @@
+// `sgslam eval`: ATE and RPE of an estimated trajectory against ground truth, as
+// TUM's evaluate_ate.py / evaluate_rpe.py define them (see src/sgslam/eval/).
+#include <spdlog/spdlog.h>
+
 #include <CLI/CLI.hpp>
+#include <cstdio>
+#include <memory>
+#include <string>
 
 #include "commands.h"
-#include "sgslam/common/error.h"
+#include "sgslam/common/time.h"
+#include "sgslam/eval/evaluate.h"
+#include "sgslam/eval/plot.h"
 
 namespace sgslam::app {
 
+namespace {
+
+struct EvalArgs {
+  std::string gt, est, plot;
+  double max_diff_s = 0.02;
+  double delta_s = 1.0;
+  bool json = false;
+};
+
+int RunEval(const EvalArgs& a) {
+  spdlog::debug("eval: gt={} est={} max_diff={} s delta={} s plot={}", a.gt, a.est, a.max_diff_s, a.delta_s,
+                a.plot.empty() ? "-" : a.plot);
+  eval::EvalOptions options;
+  options.max_difference = FromSeconds(a.max_diff_s);
+  options.rpe_delta = FromSeconds(a.delta_s);
+  const eval::EvalReport report = eval::EvaluateFiles(a.gt, a.est, options);
+  // Plot before printing, so a failed plot leaves no half-reported result on stdout.
+  if (!a.plot.empty()) {
+    eval::WriteAtePlot(a.plot, report.gt, report.est, report.ate);
+    spdlog::info("wrote {}", a.plot);
+  }
+  const std::string out = a.json ? eval::ToJson(report).dump() + "\n" : eval::FormatTable(report);
+  std::fwrite(out.data(), 1, out.size(), stdout);
+  std::fflush(stdout);
+  return kExitOk;
+}
+
+}  // namespace
+
 Action AddEvalCommand(CLI::App& root) {
-  root.add_subcommand("eval", "(not yet implemented)");
-  return [] () -> int { throw Error("'eval' is not implemented yet"); };
+  auto args = std::make_shared<EvalArgs>();
+  CLI::App* sub = root.add_subcommand("eval", "ATE and RPE of an estimated trajectory (TUM benchmark definitions)");
+  sub->add_option("--gt", args->gt, "Ground-truth trajectory, TUM format")->required();
+  sub->add_option("--est", args->est, "Estimated trajectory, TUM format")->required();
+  sub->add_option("--max-diff", args->max_diff_s, "Max timestamp difference for association [s]")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  sub->add_option("--delta", args->delta_s, "RPE pose-pair spacing [s]")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  sub->add_option("--plot", args->plot, "Write a top-view ATE plot to this PNG file");
+  sub->add_flag("--json", args->json, "Print one JSON object on stdout instead of a table");
+  return [args]() -> int { return RunEval(*args); };
 }
 
 }  // namespace sgslam::app

@@ -1,5 +1,6 @@
 // sgslam: real-time RGB-D SLAM for dynamic scenes (after SG-SLAM).
 // This file only dispatches to the subcommands (see commands.h).
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
@@ -32,6 +33,8 @@ int main(int argc, char** argv) {
     const int code = root.exit(e);
     return code == 0 ? kExitOk : kExitUsage;
   }
+  // stdout carries results (eval --json is parsed by scripts); logs go to stderr.
+  spdlog::set_default_logger(spdlog::stderr_color_mt("sgslam"));
   spdlog::set_pattern("[%l] %v");
   spdlog::set_level(quiet ? spdlog::level::warn
                           : verbosity >= 2 ? spdlog::level::trace
