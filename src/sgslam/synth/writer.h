@@ -1,0 +1,39 @@
+// `sgslam synth`: saves a synthetic sequence in the TUM RGB-D layout, with exact
+// ground truth beside it:
+//   rgb/<t>.png depth/<t>.png mask/<t>.png   BGR8, 16-bit (m * 5000), 8-bit dynamic mask
+//   rgb.txt depth.txt mask.txt associations.txt groundtruth.txt (T_w_c)
+//   detections.txt (io/detections_file.h)  objects_gt.json  sgslam.yaml (camera)
+// Frames render on two worker threads; the files do not depend on the scheduling.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+namespace sgslam::synth {
+
+struct SynthOptions {
+  std::string preset = "walkers";  // static | walkers | degenerate | objects
+  std::uint32_t seed = 1;          // scene layout, textures, paths and noise
+  int frames = 300;                // at 30 Hz
+  bool force = false;              // write into a non-empty folder, replacing only our files
+  int threads = 2;                 // render workers
+};
+
+struct SynthSummary {
+  int frames = 0;
+  std::string preset;
+  std::uint32_t seed = 0;
+  double mean_dynamic_fraction = 0;  // mean share of mask pixels per frame
+  std::filesystem::path out;
+  double seconds = 0;  // wall time of rendering and writing
+};
+
+// Throws InputError for a bad preset, frames <= 0, a non-empty folder without force,
+// or any file that cannot be written (naming it).
+SynthSummary GenerateSequence(const SynthOptions& options, const std::filesystem::path& out);
+
+// The camera section of sgslam.yaml, as written.
+std::string CameraYaml();
+
+}  // namespace sgslam::synth
