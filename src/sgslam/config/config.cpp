@@ -39,6 +39,30 @@ void OrbConfig::Validate(ConfigChecker& c) const {
   c.InRange("cell_size", cell_size, 10, 200);
 }
 
+void TrackingConfig::Validate(ConfigChecker& c) const {
+  c.InRange("min_init_points", min_init_points, 10, 100000);
+  c.InRange("motion_search_radius", motion_search_radius, 1.0, 200.0);
+  c.InRange("local_search_radius", local_search_radius, 0.5, 50.0);
+  c.InRange("descriptor_ratio", descriptor_ratio, 0.1, 1.0);
+  c.InRange("min_motion_matches", min_motion_matches, 4, 10000);
+  c.InRange("min_pose_inliers", min_pose_inliers, 4, 10000);
+  c.InRange("min_local_inliers", min_local_inliers, 4, 10000);
+  c.InRange("keyframe_ref_ratio", keyframe_ref_ratio, 0.05, 1.0);
+  c.InRange("max_frames_between_keyframes", max_frames_between_keyframes, 0, 10000);
+  c.InRange("close_tracked_min", close_tracked_min, 0, 100000);
+  c.InRange("close_untracked_min", close_untracked_min, 0, 100000);
+  c.InRange("keyframe_min_new_points", keyframe_min_new_points, 0, 100000);
+}
+
+void MappingConfig::Validate(ConfigChecker& c) const {
+  c.InRange("triangulation_neighbours", triangulation_neighbours, 0, 100);
+  c.InRange("fusion_neighbours", fusion_neighbours, 0, 100);
+  c.InRange("ba_first_iterations", ba_first_iterations, 0, 1000);
+  c.InRange("ba_second_iterations", ba_second_iterations, 0, 1000);
+  c.InRange("redundant_ratio", redundant_ratio, 0.5, 1.0);
+  c.InRange("queue_size", queue_size, 1, 100);
+}
+
 void Config::Validate(const std::string& source) const {
   ConfigChecker checker("");
   VisitSections([&](const char* name, const auto& section) {

@@ -88,16 +88,74 @@ struct OrbConfig {
   void Validate(ConfigChecker& c) const;
 };
 
+// Tracking (ORB-SLAM2's RGB-D settings unless a comment says otherwise).
+struct TrackingConfig {
+  int min_init_points = 500;           // keypoints with depth needed to start the map
+  double motion_search_radius = 15.0;  // px at level 0, constant-velocity projection search
+  double local_search_radius = 3.0;    // factor, local-map projection search
+  double descriptor_ratio = 0.7;       // best/second-best ratio, reference keyframe matching
+  int min_motion_matches = 20;         // matches needed to trust the motion model
+  int min_pose_inliers = 10;           // inliers after pose optimisation (motion / reference)
+  int min_local_inliers = 30;          // inliers after local-map tracking
+  double keyframe_ref_ratio = 0.75;    // new keyframe when tracked points fall below this share of the reference's
+  int max_frames_between_keyframes = 30;  // frames; 0: the camera's fps
+  int close_tracked_min = 100;         // need a keyframe when fewer close points are tracked ...
+  int close_untracked_min = 70;        // ... and at least this many close points are not
+  int keyframe_min_new_points = 100;   // points created per keyframe beyond the close range
+
+  template <class V>
+  void Visit(V&& v) {
+    v("min_init_points", min_init_points, "keypoints with depth to start the map");
+    v("motion_search_radius", motion_search_radius, "px, motion-model search radius");
+    v("local_search_radius", local_search_radius, "factor, local-map search radius");
+    v("descriptor_ratio", descriptor_ratio, "best/second ratio, reference keyframe matching");
+    v("min_motion_matches", min_motion_matches, "matches to trust the motion model");
+    v("min_pose_inliers", min_pose_inliers, "inliers after pose optimisation");
+    v("min_local_inliers", min_local_inliers, "inliers after local-map tracking");
+    v("keyframe_ref_ratio", keyframe_ref_ratio, "tracked share of the reference keyframe's points");
+    v("max_frames_between_keyframes", max_frames_between_keyframes, "frames between keyframes at most");
+    v("close_tracked_min", close_tracked_min, "close points tracked, keyframe rule");
+    v("close_untracked_min", close_untracked_min, "close points untracked, keyframe rule");
+    v("keyframe_min_new_points", keyframe_min_new_points, "points created per keyframe");
+  }
+  void Validate(ConfigChecker& c) const;
+};
+
+// Local mapping.
+struct MappingConfig {
+  int triangulation_neighbours = 10;  // covisible keyframes searched for new points
+  int fusion_neighbours = 10;         // covisible keyframes (and theirs) for duplicate fusion
+  int ba_first_iterations = 5;        // local BA, with robust kernel
+  int ba_second_iterations = 10;      // local BA, after removing outliers
+  double redundant_ratio = 0.9;       // a keyframe is culled when this share of its points is seen thrice elsewhere
+  int queue_size = 3;                 // keyframes waiting for local mapping, beyond which tracking waits
+
+  template <class V>
+  void Visit(V&& v) {
+    v("triangulation_neighbours", triangulation_neighbours, "keyframes searched for new points");
+    v("fusion_neighbours", fusion_neighbours, "keyframes searched for duplicates");
+    v("ba_first_iterations", ba_first_iterations, "local BA iterations with robust kernel");
+    v("ba_second_iterations", ba_second_iterations, "local BA iterations after outlier removal");
+    v("redundant_ratio", redundant_ratio, "share of points seen elsewhere to cull a keyframe");
+    v("queue_size", queue_size, "keyframes queued for local mapping");
+  }
+  void Validate(ConfigChecker& c) const;
+};
+
 struct Config {
   CameraConfig camera;
   DatasetConfig dataset;
   OrbConfig orb;
+  TrackingConfig tracking;
+  MappingConfig mapping;
 
   template <class V>
   void VisitSections(V&& v) {
     v("camera", camera);
     v("dataset", dataset);
     v("orb", orb);
+    v("tracking", tracking);
+    v("mapping", mapping);
   }
   template <class V>
   void VisitSections(V&& v) const {
