@@ -1,0 +1,128 @@
+#include "sgslam/optim/cost_functions.h"
+
+#include <Eigen/Geometry>
+#include <limits>
+
+#include "sgslam/common/se3.h"
+
+namespace sgslam::optim {
+namespace {
+
+using Matrix34 = Eigen::Matrix<double, 3, 4>;
+
+// d (q * p) / d [qx qy qz qw] for the formula Eigen evaluates,
+// q * p = p + 2 w (v x p) + 2 v x (v x p):
+// d/dv = -2 w [p]x + 2 ((v.p) I + v p^T - 2 p v^T), d/dw = 2 v x p.
+Matrix34 RotatePointJacobian(const Eigen::Quaterniond& q, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d v = q.vec();
+  const double w = q.w();
+  Matrix34 J;
+  J.leftCols<3>() =
+      -2.0 * w * Hat(p) + 2.0 * (v.dot(p) * Eigen::Matrix3d::Identity() + v * p.transpose() - 2.0 * p * v.transpose());
+  J.col(3) = 2.0 * v.cross(p);
+  return J;
+}
+
+// Fills the row-major N x 7 pose Jacobian from d r / d p_c; p_c = q * p_w + t.
+template <int N>
+void PoseJacobian(const Eigen::Matrix<double, N, 3>& J_pc, const Eigen::Quaterniond& q, const Eigen::Vector3d& p_w,
+                  double* out) {
+  Eigen::Map<Eigen::Matrix<double, N, 7, Eigen::RowMajor>> J(out);
+  J.template leftCols<4>() = J_pc * RotatePointJacobian(q, p_w);
+  J.template rightCols<3>() = J_pc;
+}
+
+}  // namespace
+
+template <int N>
+bool ProjectionResidual(const Intrinsics& K, const ReprojectionMeasurement& m, const Eigen::Vector3d& p_c,
+                        double* residual, Eigen::Matrix<double, N, 3>* J) {
+  const double z = p_c.z();
+  if (!(z > kMinDepth)) return false;
+  const double iz = 1.0 / z;
+  const double x = p_c.x() * iz, y = p_c.y() * iz;
+  const double u = K.fx * x + K.cx;
+  const double w = m.sqrt_info;
+  residual[0] = w * (u - m.uv.x());
+  residual[1] = w * (K.fy * y + K.cy - m.uv.y());
+  if constexpr (N == 3) residual[2] = w * (u - K.bf * iz - m.u_right);
+  if (J != nullptr) {
+    // d(u, v, u_r) / d(X, Y, Z), the rows of ORB-SLAM2's linearizeOplus.
+    (*J)(0, 0) = w * K.fx * iz;
+    (*J)(0, 1) = 0;
+    (*J)(0, 2) = -w * K.fx * x * iz;
+    (*J)(1, 0) = 0;
+    (*J)(1, 1) = w * K.fy * iz;
+    (*J)(1, 2) = -w * K.fy * y * iz;
+    if constexpr (N == 3) {
+      (*J)(2, 0) = (*J)(0, 0);
+      (*J)(2, 1) = 0;
+      (*J)(2, 2) = (*J)(0, 2) + w * K.bf * iz * iz;
+    }
+  }
+  return true;
+}
+
+double ReprojectionChi2(const Intrinsics& K, const ReprojectionMeasurement& m, const Eigen::Vector3d& p_c) {
+  double r[3];
+  if (m.u_right < 0) {
+    if (!ProjectionResidual<2>(K, m, p_c, r, nullptr)) return std::numeric_limits<double>::infinity();
+    return r[0] * r[0] + r[1] * r[1];
+  }
+  if (!ProjectionResidual<3>(K, m, p_c, r, nullptr)) return std::numeric_limits<double>::infinity();
+  return r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+}
+
+template <int N>
+bool PoseOnlyReprojectionCost<N>::Evaluate(double const* const* parameters, double* residuals,
+                                           double** jacobians) const {
+  const Eigen::Map<const Eigen::Quaterniond> q(parameters[0]);
+  const Eigen::Map<const Eigen::Vector3d> t(parameters[0] + 4);
+  const Eigen::Vector3d p_c = q * p_w_ + t;
+  const bool want_J = jacobians != nullptr && jacobians[0] != nullptr;
+  Eigen::Matrix<double, N, 3> J_pc;
+  if (!ProjectionResidual<N>(K_, m_, p_c, residuals, want_J ? &J_pc : nullptr)) return false;
+  if (want_J) PoseJacobian<N>(J_pc, q, p_w_, jacobians[0]);
+  return true;
+}
+
+template <int N>
+bool BaReprojectionCost<N>::Evaluate(double const* const* parameters, double* residuals, double** jacobians) const {
+  const Eigen::Map<const Eigen::Quaterniond> q(parameters[0]);
+  const Eigen::Map<const Eigen::Vector3d> t(parameters[0] + 4);
+  const Eigen::Map<const Eigen::Vector3d> p_w(parameters[1]);
+  const Eigen::Vector3d p_c = q * p_w + t;
+  const bool want_pose = jacobians != nullptr && jacobians[0] != nullptr;
+  const bool want_point = jacobians != nullptr && jacobians[1] != nullptr;
+  Eigen::Matrix<double, N, 3> J_pc;
+  if (!ProjectionResidual<N>(K_, m_, p_c, residuals, want_pose || want_point ? &J_pc : nullptr)) return false;
+  if (want_pose) PoseJacobian<N>(J_pc, q, p_w, jacobians[0]);
+  if (want_point) {
+    // d p_c / d p_w = R(q).
+    Eigen::Map<Eigen::Matrix<double, N, 3, Eigen::RowMajor>> J_point(jacobians[1]);
+    J_point = J_pc * q.toRotationMatrix();
+  }
+  return true;
+}
+
+ceres::CostFunction* MakePoseOnlyCost(const Intrinsics& K, const ReprojectionMeasurement& m,
+                                      const Eigen::Vector3d& p_w) {
+  if (m.u_right < 0) return new PoseOnlyMonoCost(K, m, p_w);
+  return new PoseOnlyStereoCost(K, m, p_w);
+}
+
+ceres::CostFunction* MakeBaCost(const Intrinsics& K, const ReprojectionMeasurement& m) {
+  if (m.u_right < 0) return new BaMonoCost(K, m);
+  return new BaStereoCost(K, m);
+}
+
+template bool ProjectionResidual<2>(const Intrinsics&, const ReprojectionMeasurement&, const Eigen::Vector3d&, double*,
+                                    Eigen::Matrix<double, 2, 3>*);
+template bool ProjectionResidual<3>(const Intrinsics&, const ReprojectionMeasurement&, const Eigen::Vector3d&, double*,
+                                    Eigen::Matrix<double, 3, 3>*);
+template class PoseOnlyReprojectionCost<2>;
+template class PoseOnlyReprojectionCost<3>;
+template class BaReprojectionCost<2>;
+template class BaReprojectionCost<3>;
+
+}  // namespace sgslam::optim

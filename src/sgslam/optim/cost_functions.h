@@ -1,0 +1,79 @@
+// Reprojection residuals of ORB-SLAM2's optimiser (Optimizer.cc edges
+// EdgeSE3ProjectXYZ[OnlyPose] and EdgeStereoSE3ProjectXYZ[OnlyPose]) as Ceres
+// cost functions with analytic Jacobians.
+//
+// p_c = T_c_w * p_w, u = fx x/z + cx, v = fy y/z + cy, and for RGB-D "stereo"
+// observations the virtual right coordinate u_r = u - bf/z (bf = baseline*fx).
+// Residual r = sqrt(inv_sigma2) * (projection - measurement), so |r|^2 is the
+// chi2 that ORB-SLAM2 tests against 5.991 (2 dof) or 7.815 (3 dof).
+// Pose blocks use the 7-double layout of se3_manifold.h; Jacobians are with
+// respect to that ambient layout. Evaluate returns false for points at depth
+// <= kMinDepth so the trust region rejects steps that move a point behind a camera.
+#pragma once
+
+#include <ceres/sized_cost_function.h>
+
+#include <Eigen/Core>
+
+namespace sgslam::optim {
+
+struct Intrinsics {
+  double fx = 0, fy = 0, cx = 0, cy = 0;
+  double bf = 0;  // baseline * fx [px * m]; u_right = u - bf / z
+};
+
+inline constexpr double kMinDepth = 1e-6;  // [m]
+
+// One measurement: pixel, virtual right coordinate (< 0: monocular), weight.
+struct ReprojectionMeasurement {
+  Eigen::Vector2d uv = Eigen::Vector2d::Zero();
+  double u_right = -1;
+  double sqrt_info = 1;  // sqrt(inv_sigma2) of the keypoint's pyramid level
+};
+
+// Residual (N = 2 mono, 3 stereo) of a camera-frame point and, when J is given,
+// its Jacobian d r / d p_c. Returns false behind the camera.
+template <int N>
+bool ProjectionResidual(const Intrinsics& K, const ReprojectionMeasurement& m, const Eigen::Vector3d& p_c,
+                        double* residual, Eigen::Matrix<double, N, 3>* J);
+
+// Squared weighted error (chi2) of a measurement, +infinity behind the camera.
+double ReprojectionChi2(const Intrinsics& K, const ReprojectionMeasurement& m, const Eigen::Vector3d& p_c);
+
+// Pose-only: fixed world point, parameter block = pose (7).
+template <int N>
+class PoseOnlyReprojectionCost final : public ceres::SizedCostFunction<N, 7> {
+ public:
+  PoseOnlyReprojectionCost(const Intrinsics& K, const ReprojectionMeasurement& m, const Eigen::Vector3d& p_w)
+      : K_(K), m_(m), p_w_(p_w) {}
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
+
+ private:
+  Intrinsics K_;
+  ReprojectionMeasurement m_;
+  Eigen::Vector3d p_w_;
+};
+
+// Bundle adjustment: parameter blocks = pose (7), world point (3).
+template <int N>
+class BaReprojectionCost final : public ceres::SizedCostFunction<N, 7, 3> {
+ public:
+  BaReprojectionCost(const Intrinsics& K, const ReprojectionMeasurement& m) : K_(K), m_(m) {}
+  bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
+
+ private:
+  Intrinsics K_;
+  ReprojectionMeasurement m_;
+};
+
+using PoseOnlyMonoCost = PoseOnlyReprojectionCost<2>;
+using PoseOnlyStereoCost = PoseOnlyReprojectionCost<3>;
+using BaMonoCost = BaReprojectionCost<2>;
+using BaStereoCost = BaReprojectionCost<3>;
+
+// Creates the mono or stereo variant as the measurement asks (caller owns).
+ceres::CostFunction* MakePoseOnlyCost(const Intrinsics& K, const ReprojectionMeasurement& m,
+                                      const Eigen::Vector3d& p_w);
+ceres::CostFunction* MakeBaCost(const Intrinsics& K, const ReprojectionMeasurement& m);
+
+}  // namespace sgslam::optim
