@@ -4,6 +4,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <charconv>
+#include <map>
 #include <set>
 #include <sstream>
 #include <type_traits>
@@ -18,6 +19,21 @@ namespace {
 
 std::string Where(const fs::path& file, const YAML::Node& node) {
   return file.string() + ":" + std::to_string(node.Mark().line + 1);
+}
+
+template <class T>
+void ReadValue(const fs::path& file, const std::string& key, const YAML::Node& node, T& out);
+
+// A table of named numbers (e.g. per-class weights): replaces the default table.
+template <>
+void ReadValue(const fs::path& file, const std::string& key, const YAML::Node& node, std::map<std::string, double>& out) {
+  if (!node.IsMap()) throw ConfigError(Where(file, node) + ": " + key + " must be a map of name: number");
+  std::map<std::string, double> table;
+  for (const auto& kv : node) {
+    const std::string name = kv.first.Scalar();
+    ReadValue(file, key + "." + name, kv.second, table[name]);
+  }
+  out = std::move(table);
 }
 
 template <class T>
@@ -90,7 +106,19 @@ std::string ConfigToYaml(const Config& config) {
     section.Visit([&](const char* key, const auto& value, const char* unit) {
       out << "  " << key << ": ";
       using T = std::decay_t<decltype(value)>;
-      if constexpr (std::is_same_v<T, bool>) {
+      if constexpr (std::is_same_v<T, std::map<std::string, double>>) {
+        out << "  # " << unit << "\n";
+        for (const auto& [name, number] : value) {
+          YAML::Emitter quoted;
+          quoted << YAML::DoubleQuoted << name;
+          out << "    " << quoted.c_str() << ": " << number << "\n";
+        }
+        return;
+      } else if constexpr (std::is_same_v<T, std::string>) {
+        YAML::Emitter quoted;
+        quoted << YAML::DoubleQuoted << value;
+        out << quoted.c_str();
+      } else if constexpr (std::is_same_v<T, bool>) {
         out << (value ? "true" : "false");
       } else if constexpr (std::is_floating_point_v<T>) {
         char buf[64];  // shortest text that reads back to the same double
