@@ -25,8 +25,7 @@ template <class T>
 void ReadValue(const fs::path& file, const std::string& key, const YAML::Node& node, T& out);
 
 // A table of named numbers (e.g. per-class weights): replaces the default table.
-template <>
-void ReadValue(const fs::path& file, const std::string& key, const YAML::Node& node, std::map<std::string, double>& out) {
+[[maybe_unused]] void ReadValue(const fs::path& file, const std::string& key, const YAML::Node& node, std::map<std::string, double>& out) {
   if (!node.IsMap()) throw ConfigError(Where(file, node) + ": " + key + " must be a map of name: number");
   std::map<std::string, double> table;
   for (const auto& kv : node) {
@@ -108,9 +107,9 @@ std::string ConfigToYaml(const Config& config) {
       using T = std::decay_t<decltype(value)>;
       if constexpr (std::is_same_v<T, std::map<std::string, double>>) {
         out << "  # " << unit << "\n";
-        for (const auto& [name, number] : value) {
+        for (const auto& [entry, number] : value) {
           YAML::Emitter quoted;
-          quoted << YAML::DoubleQuoted << name;
+          quoted << YAML::DoubleQuoted << entry;
           out << "    " << quoted.c_str() << ": " << number << "\n";
         }
         return;
