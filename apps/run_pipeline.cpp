@@ -1,0 +1,172 @@
+#include "run_pipeline.h"
+
+#include <spdlog/spdlog.h>
+
+#include <atomic>
+#include <csignal>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "progress.h"
+#include "sgslam/common/error.h"
+#include "sgslam/common/stats.h"
+#include "sgslam/config/yaml_io.h"
+#include "sgslam/eval/ate.h"
+#include "sgslam/io/frame_stream.h"
+#include "sgslam/io/ply.h"
+#include "sgslam/io/text_file.h"
+#include "sgslam/io/trajectory.h"
+#include "sgslam/system/run_config.h"
+#include "sgslam/system/slam_system.h"
+
+namespace sgslam::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::atomic<bool> g_interrupted{false};
+extern "C" void OnInterrupt(int) { g_interrupted = true; }
+
+// Restores the previous SIGINT handler on scope exit.
+class InterruptGuard {
+ public:
+  InterruptGuard() : previous_(std::signal(SIGINT, OnInterrupt)) { g_interrupted = false; }
+  ~InterruptGuard() { std::signal(SIGINT, previous_); }
+
+ private:
+  void (*previous_)(int);
+};
+
+nlohmann::json MedianOf(const std::vector<FrameReport>& reports, double FrameReport::*field) {
+  std::vector<double> v;
+  v.reserve(reports.size());
+  for (const auto& r : reports) v.push_back(r.*field);
+  return Median(std::move(v));
+}
+
+}  // namespace
+
+RunSummary RunSequence(const RunOptions& o) {
+  const fs::path dataset_dir = o.dataset;
+  RunConfig rc = ResolveRunConfig(o.config.empty() ? std::nullopt : std::optional<fs::path>(o.config), dataset_dir);
+  const Config& config = rc.config;
+  TumDataset dataset(dataset_dir, config.dataset);
+  RunSummary s;
+  s.out = o.out.empty() ? fs::path("sgslam-out") / dataset.name() : fs::path(o.out);
+  std::error_code ec;
+  fs::create_directories(s.out, ec);
+  if (ec || !fs::is_directory(s.out)) throw InputError("cannot create output folder " + s.out.string());
+
+  spdlog::info("dataset {}: {} RGB-D frames ({}), config: {}", dataset.dir().string(), dataset.size(),
+               dataset.associations_from_file() ? "associations.txt" : "associated by timestamp", rc.source);
+  const std::string yaml = "# effective configuration of this run (source: " + rc.source + ")\n" + ConfigToYaml(config);
+  spdlog::debug("effective configuration:\n{}", yaml);
+  WriteFileAtomically(s.out / "config_used.yaml", yaml);
+  if (o.mode != "none" && !o.no_detector) {
+    spdlog::warn("--mode {}: dynamic feature rejection and the detector are not built yet; running as --mode none",
+                 o.mode);
+  }
+  if (o.viewer_port != 0) spdlog::warn("--viewer is not built yet; ignored");
+
+  SlamSystem system(config, o.sequential);
+  std::vector<FrameReport> reports;
+  std::string failure;
+  Stopwatch wall;
+  {
+    InterruptGuard guard;
+    FrameStream stream(dataset, config.camera, static_cast<std::size_t>(config.dataset.prefetch), o.max_frames);
+    ProgressBar progress(stream.size());
+    try {
+      while (auto frame = stream.Next()) {
+        if (reports.empty()) CheckDepthScale(*frame, dataset.frames()[frame->index], config.camera, config.dataset);
+        reports.push_back(system.Process(*frame));
+        progress.Update(reports.size(), reports.size() / (wall.ElapsedMs() * 1e-3));
+        if (g_interrupted) {
+          spdlog::warn("interrupted: writing the outputs of the {} frames processed", reports.size());
+          break;
+        }
+      }
+    } catch (const Error& e) {
+      if (reports.empty()) throw;
+      failure = e.what();  // save what was done, then report
+    }
+  }
+  system.Finish();
+  const double seconds = wall.ElapsedMs() * 1e-3;
+
+  std::ostringstream csv;
+  csv << "index,timestamp,state,features,matches,inliers,keyframe,extract_ms,track_ms,total_ms\n";
+  for (const auto& r : reports) {
+    csv << r.index << ',' << FormatTimestamp(r.t) << ',' << ToString(r.state) << ',' << r.features << ','
+        << r.matches << ',' << r.inliers << ',' << (r.keyframe ? 1 : 0) << ',' << r.extract_ms << ',' << r.track_ms
+        << ',' << r.total_ms << '\n';
+    s.tracked += r.state == TrackState::kOk;
+    s.lost += r.state == TrackState::kLost;
+  }
+  WriteFileAtomically(s.out / "frames.csv", csv.str());
+  const Trajectory trajectory = system.FrameTrajectory();
+  WriteTumTrajectory(s.out / "trajectory.txt", trajectory);
+  WriteTumTrajectory(s.out / "keyframes.txt", system.KeyFrameTrajectory());
+  const auto points = system.MapPointPositions();
+  WritePly(s.out / "map_points.ply", points);
+
+  s.frames = reports.size();
+  s.keyframes = system.NumKeyFrames();
+  s.map_points = points.size();
+  s.median_frame_ms = MedianOf(reports, &FrameReport::total_ms).get<double>();
+  s.fps = seconds > 0 ? s.frames / seconds : 0.0;
+  s.peak_rss_mib = PeakRssMiB();
+  nlohmann::json stats = {{"dataset", dataset.dir().string()},
+                          {"mode", "none"},
+                          {"sequential", o.sequential},
+                          {"frames", s.frames},
+                          {"tracked", s.tracked},
+                          {"lost", s.lost},
+                          {"keyframes", s.keyframes},
+                          {"map_points", s.map_points},
+                          {"median_ms", {{"extract", MedianOf(reports, &FrameReport::extract_ms)},
+                                         {"track", MedianOf(reports, &FrameReport::track_ms)},
+                                         {"frame", s.median_frame_ms}}},
+                          {"fps", s.fps},
+                          {"peak_rss_mib", s.peak_rss_mib}};
+  std::vector<double> mapping_ms;
+  for (const auto& m : system.mapping_stats()) mapping_ms.push_back(m.ms);
+  stats["median_ms"]["local_mapping_per_keyframe"] = Median(mapping_ms);
+  if (const auto gt_path = dataset.groundtruth_path(); gt_path && trajectory.size() >= 3) {
+    try {
+      const auto ate = eval::ComputeAte(ReadTumTrajectory(*gt_path), trajectory, FromSeconds(0.02));
+      s.ate_rmse = ate.stats.rmse;
+      s.ate_pairs = ate.stats.count;
+      stats["ate"] = {{"rmse", ate.stats.rmse}, {"mean", ate.stats.mean}, {"median", ate.stats.median},
+                      {"pairs", ate.stats.count}};
+    } catch (const Error& e) {
+      spdlog::warn("no ATE: {}", e.what());
+    }
+  }
+  if (!failure.empty()) stats["error"] = failure;
+  WriteFileAtomically(s.out / "stats.json", stats.dump(2) + "\n");
+  if (!failure.empty()) {
+    throw InputError(failure + " (outputs of the " + std::to_string(s.frames) + " frames before it are in " +
+                     s.out.string() + ")");
+  }
+  return s;
+}
+
+std::string FormatSummary(const RunSummary& s) {
+  std::ostringstream o;
+  o.setf(std::ios::fixed);
+  o.precision(1);
+  o << s.frames << " frames: " << s.tracked << " tracked, " << s.lost << " lost, " << s.keyframes
+    << " keyframes, " << s.map_points << " points";
+  if (s.ate_rmse) {
+    o.precision(4);
+    o << "; ATE RMSE " << *s.ate_rmse << " m (" << s.ate_pairs << " poses)";
+    o.precision(1);
+  }
+  o << "; median " << s.median_frame_ms << " ms/frame, " << s.fps << " fps, peak " << s.peak_rss_mib
+    << " MiB. Outputs in " << s.out.string();
+  return o.str();
+}
+
+}  // namespace sgslam::app

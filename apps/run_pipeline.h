@@ -1,0 +1,34 @@
+// The body of `sgslam run`, shared with `sgslam demo`: configure, stream the
+// dataset through the SLAM system and write every output of the contract.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <string>
+
+namespace sgslam::app {
+
+struct RunOptions {
+  std::string dataset, config, out, mode = "sg", model;
+  bool no_detector = false, sequential = false;
+  std::size_t max_frames = 0;
+  int viewer_port = 0;
+};
+
+struct RunSummary {
+  std::filesystem::path out;
+  std::size_t frames = 0, tracked = 0, lost = 0, keyframes = 0, map_points = 0;
+  double median_frame_ms = 0, fps = 0, peak_rss_mib = 0;
+  std::optional<double> ate_rmse;  // when the dataset has groundtruth.txt
+  std::size_t ate_pairs = 0;
+};
+
+// Throws sgslam::Error for bad input; outputs of the frames processed before a
+// failure (or Ctrl-C) are written before the error is passed on.
+RunSummary RunSequence(const RunOptions& options);
+
+// The one-line summary printed at the end of a run.
+std::string FormatSummary(const RunSummary& s);
+
+}  // namespace sgslam::app

@@ -1,0 +1,175 @@
+#include "sgslam/features/matcher.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "sgslam/features/hamming.h"
+
+namespace sgslam::matcher {
+
+namespace {
+
+constexpr int kHistLength = 30;
+
+double RadiusByViewingCos(double view_cos) { return view_cos > 0.998 ? 2.5 : 4.0; }
+
+struct Best {
+  int dist = 256, second = 256, level = -1, second_level = -1;
+  std::size_t index = SIZE_MAX;
+  void Offer(int d, std::size_t i, int lvl) {
+    if (d < dist) {
+      second = dist;
+      second_level = level;
+      dist = d;
+      level = lvl;
+      index = i;
+    } else if (d < second) {
+      second = d;
+      second_level = lvl;
+    }
+  }
+};
+
+}  // namespace
+
+std::vector<std::size_t> RotationOutliers(const std::vector<float>& angle_diffs) {
+  std::array<std::vector<std::size_t>, kHistLength> hist;
+  for (std::size_t i = 0; i < angle_diffs.size(); ++i) {
+    float rot = angle_diffs[i];
+    if (rot < 0) rot += 360.0f;
+    int bin = static_cast<int>(std::lround(rot * kHistLength / 360.0f));
+    if (bin == kHistLength) bin = 0;
+    hist[static_cast<std::size_t>(bin)].push_back(i);
+  }
+  // The three largest bins; the 2nd and 3rd only if at least 10 % of the first.
+  std::array<int, 3> top = {-1, -1, -1};
+  std::array<std::size_t, 3> size = {0, 0, 0};
+  for (int b = 0; b < kHistLength; ++b) {
+    const std::size_t s = hist[static_cast<std::size_t>(b)].size();
+    if (s > size[0]) {
+      top = {b, top[0], top[1]};
+      size = {s, size[0], size[1]};
+    } else if (s > size[1]) {
+      top = {top[0], b, top[1]};
+      size = {size[0], s, size[1]};
+    } else if (s > size[2]) {
+      top[2] = b;
+      size[2] = s;
+    }
+  }
+  if (size[1] < 0.1 * size[0]) top[1] = top[2] = -1;
+  else if (size[2] < 0.1 * size[0]) top[2] = -1;
+  std::vector<std::size_t> drop;
+  for (int b = 0; b < kHistLength; ++b) {
+    if (b == top[0] || b == top[1] || b == top[2]) continue;
+    const auto& v = hist[static_cast<std::size_t>(b)];
+    drop.insert(drop.end(), v.begin(), v.end());
+  }
+  return drop;
+}
+
+int SearchByProjection(Frame& current, const Frame& last, double radius_px) {
+  const Features& cf = *current.features;
+  const Features& lf = *last.features;
+  const Camera& cam = *cf.camera;
+  const Eigen::Vector3d t_l_c = last.T_c_w * current.center();  // current centre in the last camera
+  const double baseline = cam.baseline_fx() / cam.fx();
+  const bool forward = t_l_c.z() > baseline, backward = -t_l_c.z() > baseline;
+
+  std::vector<float> diffs;
+  std::vector<std::size_t> matched;
+  int n = 0;
+  for (std::size_t i = 0; i < last.map_points.size(); ++i) {
+    const auto& p = last.map_points[i];
+    if (!p || last.outlier[i] || p->bad()) continue;
+    const Eigen::Vector3d p_c = current.T_c_w * p->position();
+    if (p_c.z() <= 0) continue;
+    const Eigen::Vector2d uv = cam.Project(p_c);
+    if (!cf.bounds.Contains(uv.x(), uv.y())) continue;
+    const int last_level = lf.keys_un[i].octave;
+    // Moving forward, the point looks bigger: search at finer-or-equal scale
+    // levels above the last one, and conversely (ORB-SLAM2).
+    const double r = radius_px * cf.scale->scale[static_cast<std::size_t>(last_level)];
+    const auto candidates = forward    ? cf.InArea(uv.x(), uv.y(), r, last_level)
+                            : backward ? cf.InArea(uv.x(), uv.y(), r, 0, last_level)
+                                       : cf.InArea(uv.x(), uv.y(), r, last_level - 1, last_level + 1);
+    const double ur = uv.x() - cam.baseline_fx() / p_c.z();
+    Best best;
+    for (std::size_t j : candidates) {
+      if (current.map_points[j] || current.rejected[j]) continue;
+      if (cf.u_right[j] > 0 && std::abs(ur - cf.u_right[j]) > r) continue;
+      best.Offer(features::HammingDistance(p->descriptor(), cf.descriptor(j)), j, cf.keys_un[j].octave);
+    }
+    if (best.dist > kThHigh) continue;
+    current.map_points[best.index] = p;
+    diffs.push_back(lf.keys[i].angle - cf.keys[best.index].angle);
+    matched.push_back(best.index);
+    ++n;
+  }
+  for (std::size_t k : RotationOutliers(diffs)) {
+    current.map_points[matched[k]].reset();
+    --n;
+  }
+  return n;
+}
+
+int SearchLocalPoints(Frame& current, const std::vector<std::shared_ptr<MapPoint>>& points, double th) {
+  const Features& cf = *current.features;
+  int n = 0;
+  for (const auto& p : points) {
+    if (!p->track.in_view || p->bad() || p->track.last_frame_seen == current.id) continue;
+    const int level = p->track.predicted_level;
+    const double r = th * RadiusByViewingCos(p->track.view_cos) * cf.scale->scale[static_cast<std::size_t>(level)];
+    Best best;
+    for (std::size_t j : cf.InArea(p->track.u, p->track.v, r, level - 1, level)) {
+      if (current.rejected[j]) continue;
+      if (const auto& q = current.map_points[j]; q && q->num_observations() > 0) continue;
+      if (cf.u_right[j] > 0 && std::abs(p->track.u_right - cf.u_right[j]) > r) continue;
+      best.Offer(features::HammingDistance(p->descriptor(), cf.descriptor(j)), j, cf.keys_un[j].octave);
+    }
+    if (best.dist > kThHigh) continue;
+    // Ambiguous at the same level: the best must clearly beat the second.
+    if (best.level == best.second_level && best.dist > 0.8 * best.second) continue;
+    current.map_points[best.index] = p;
+    ++n;
+  }
+  return n;
+}
+
+int SearchByDescriptor(const KeyFrame& keyframe, Frame& current, double ratio) {
+  const Features& kf = *keyframe.features;
+  const Features& cf = *current.features;
+  std::vector<float> diffs;
+  std::vector<std::size_t> matched;
+  std::vector<int> best_for_current(cf.size(), 257);
+  std::vector<std::size_t> source(cf.size(), SIZE_MAX);
+  for (std::size_t i = 0; i < kf.size(); ++i) {
+    const auto& p = keyframe.map_point(i);
+    if (!p || p->bad()) continue;
+    Best best;
+    for (std::size_t j = 0; j < cf.size(); ++j) {
+      if (current.rejected[j]) continue;
+      best.Offer(features::HammingDistance(kf.descriptor(i), cf.descriptor(j)), j, 0);
+    }
+    if (best.dist > kThLow || best.dist > ratio * best.second) continue;
+    if (best.dist >= best_for_current[best.index]) continue;  // keep the closest claim
+    best_for_current[best.index] = best.dist;
+    source[best.index] = i;
+  }
+  int n = 0;
+  for (std::size_t j = 0; j < cf.size(); ++j) {
+    if (source[j] == SIZE_MAX) continue;
+    current.map_points[j] = keyframe.map_point(source[j]);
+    diffs.push_back(kf.keys[source[j]].angle - cf.keys[j].angle);
+    matched.push_back(j);
+    ++n;
+  }
+  for (std::size_t k : RotationOutliers(diffs)) {
+    current.map_points[matched[k]].reset();
+    --n;
+  }
+  return n;
+}
+
+}  // namespace sgslam::matcher

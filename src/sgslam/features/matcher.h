@@ -1,0 +1,53 @@
+// Descriptor matching between frames, keyframes and map points (ORB-SLAM2's
+// ORBmatcher, without a vocabulary). Distances are Hamming over 256-bit ORB.
+//
+// Threading: every function reads [map] fields; callers hold Map::mutex() shared
+// (exclusive for Fuse, which changes associations).
+#pragma once
+
+#include <memory>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "sgslam/map/frame.h"
+#include "sgslam/map/keyframe.h"
+#include "sgslam/map/map.h"
+#include "sgslam/map/map_point.h"
+
+namespace sgslam::matcher {
+
+constexpr int kThHigh = 100;  // accept a match up to this distance
+constexpr int kThLow = 50;    // ... where a stricter test is needed
+
+// Constant-velocity tracking: projects the last frame's matched points with the
+// current pose estimate and searches within radius_px * scale of their level.
+int SearchByProjection(Frame& current, const Frame& last, double radius_px);
+
+// Local-map tracking: `points` carry predictions from Frame::IsInFrustum; th
+// scales the search radius. Skips keypoints already matched.
+int SearchLocalPoints(Frame& current, const std::vector<std::shared_ptr<MapPoint>>& points, double th);
+
+// Reference-keyframe tracking without a pose prior worth trusting: the keyframe's
+// mapped keypoints against all of the frame's, best distance below kThLow and
+// below ratio * second best, then rotation consistency.
+int SearchByDescriptor(const KeyFrame& keyframe, Frame& current, double ratio);
+
+// Projects points into the keyframe and fuses duplicates: a point landing on a
+// keypoint that already has a point is merged into the one with more
+// observations; otherwise the observation is added. Needs the exclusive lock.
+int Fuse(const std::shared_ptr<KeyFrame>& keyframe, const std::vector<std::shared_ptr<MapPoint>>& points,
+         Map& map, double th = 3.0);
+
+// Pairs of keypoints without map points in kf1 and kf2 that satisfy the epipolar
+// constraint of F_21 (x2^T F_21 x1 = 0) within the level's noise, for triangulation.
+std::vector<std::pair<std::size_t, std::size_t>> SearchForTriangulation(const KeyFrame& kf1, const KeyFrame& kf2,
+                                                                         const Eigen::Matrix3d& F_21);
+
+// Keeps only matches whose keypoint-angle change falls in the three most
+// populated bins of a 30-bin histogram (ORB-SLAM2, with the bin factor
+// 30/360 that later forks fixed). Returns the indices (into `angle_diffs`) to drop.
+std::vector<std::size_t> RotationOutliers(const std::vector<float>& angle_diffs);
+
+}  // namespace sgslam::matcher

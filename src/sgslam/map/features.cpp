@@ -1,0 +1,47 @@
+#include "sgslam/map/features.h"
+
+#include <algorithm>
+
+namespace sgslam {
+
+ImageBounds UndistortedBounds(const Camera& camera) {
+  const float w = static_cast<float>(camera.width()), h = static_cast<float>(camera.height());
+  if (!camera.has_distortion()) return {0.0, w, 0.0, h};
+  std::vector<cv::Point2f> corners = {{0, 0}, {w, 0}, {0, h}, {w, h}};
+  camera.Undistort(corners);
+  return {std::min(corners[0].x, corners[2].x), std::max(corners[1].x, corners[3].x),
+          std::min(corners[0].y, corners[1].y), std::max(corners[2].y, corners[3].y)};
+}
+
+std::shared_ptr<const Features> MakeFeatures(std::vector<cv::KeyPoint> keys, cv::Mat descriptors,
+                                             const cv::Mat& depth_raw, std::shared_ptr<const Camera> camera,
+                                             std::shared_ptr<const ScaleLevels> scale) {
+  auto f = std::make_shared<Features>();
+  f->bounds = UndistortedBounds(*camera);
+  f->keys = std::move(keys);
+  f->descriptors = std::move(descriptors);
+  const std::size_t n = f->keys.size();
+
+  std::vector<cv::Point2f> pts(n);
+  for (std::size_t i = 0; i < n; ++i) pts[i] = f->keys[i].pt;
+  camera->Undistort(pts);
+  f->keys_un = f->keys;
+  for (std::size_t i = 0; i < n; ++i) f->keys_un[i].pt = pts[i];
+
+  f->depth.assign(n, -1.0f);
+  f->u_right.assign(n, -1.0f);
+  for (std::size_t i = 0; i < n; ++i) {
+    const int u = cvRound(f->keys[i].pt.x), v = cvRound(f->keys[i].pt.y);
+    if (u < 0 || v < 0 || u >= depth_raw.cols || v >= depth_raw.rows) continue;
+    const double d = camera->DepthMetres(depth_raw.at<std::uint16_t>(v, u));
+    if (d <= 0) continue;
+    f->depth[i] = static_cast<float>(d);
+    f->u_right[i] = static_cast<float>(f->keys_un[i].pt.x - camera->baseline_fx() / d);
+  }
+  f->grid = FeatureGrid(f->keys_un, f->bounds);
+  f->camera = std::move(camera);
+  f->scale = std::move(scale);
+  return f;
+}
+
+}  // namespace sgslam

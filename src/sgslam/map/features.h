@@ -1,0 +1,51 @@
+// The immutable per-image feature data shared by a Frame and, when it becomes
+// one, its KeyFrame (no copy): keypoints, undistorted keypoints, depth, the
+// virtual right coordinate, descriptors and the search grid.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include <opencv2/core.hpp>
+#include <Eigen/Core>
+
+#include "sgslam/camera/camera.h"
+#include "sgslam/map/feature_grid.h"
+#include "sgslam/features/pyramid.h"
+
+namespace sgslam {
+
+using ScaleLevels = features::ScaleLevels;
+
+struct Features {
+  std::shared_ptr<const Camera> camera;
+  std::shared_ptr<const ScaleLevels> scale;
+  ImageBounds bounds;
+  std::vector<cv::KeyPoint> keys;     // as detected (distorted image)
+  std::vector<cv::KeyPoint> keys_un;  // undistorted; all geometry uses these
+  std::vector<float> depth;           // m, <= 0: no depth
+  std::vector<float> u_right;         // px, u_r = u - bf / d (ORB-SLAM2 RGB-D); < 0: none
+  cv::Mat descriptors;                // CV_8U, 32 bytes a row
+  FeatureGrid grid;
+
+  std::size_t size() const { return keys.size(); }
+  const std::uint8_t* descriptor(std::size_t i) const { return descriptors.ptr<std::uint8_t>(static_cast<int>(i)); }
+  std::vector<std::size_t> InArea(double u, double v, double r, int min_level = -1, int max_level = -1) const {
+    return grid.InArea(keys_un, u, v, r, min_level, max_level);
+  }
+  // The 3-D point of keypoint i in the camera frame (requires depth[i] > 0).
+  Eigen::Vector3d Unproject(std::size_t i) const {
+    return camera->Unproject(keys_un[i].pt.x, keys_un[i].pt.y, depth[i]);
+  }
+};
+
+// Undistorts the keypoints, looks up their depth (raw depth image registered to
+// the distorted RGB image, as in TUM and Bonn), and builds the grid.
+std::shared_ptr<const Features> MakeFeatures(std::vector<cv::KeyPoint> keys, cv::Mat descriptors,
+                                             const cv::Mat& depth_raw, std::shared_ptr<const Camera> camera,
+                                             std::shared_ptr<const ScaleLevels> scale);
+
+// Bounds of the undistorted image (corners undistorted).
+ImageBounds UndistortedBounds(const Camera& camera);
+
+}  // namespace sgslam

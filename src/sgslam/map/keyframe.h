@@ -1,0 +1,92 @@
+// A keyframe: a frame kept in the map, with its pose, the map points its keypoints
+// observe, the covisibility graph and the spanning tree (ORB-SLAM2's KeyFrame).
+//
+// Threading: fields marked [map] are guarded by Map::mutex() (shared lock to read,
+// exclusive to write). `features` is immutable. Graph links to other keyframes are
+// weak (back-references); the Map owns keyframes, a keyframe owns its map points.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <vector>
+
+#include "sgslam/common/se3.h"
+#include "sgslam/common/time.h"
+#include "sgslam/map/features.h"
+
+namespace sgslam {
+
+class MapPoint;
+class Map;
+
+class KeyFrame : public std::enable_shared_from_this<KeyFrame> {
+ public:
+  KeyFrame(std::uint64_t id, std::uint64_t frame_id, Timestamp t, std::shared_ptr<const Features> features,
+           const SE3& T_c_w);
+
+  const std::uint64_t id;
+  const std::uint64_t frame_id;
+  const Timestamp t;
+  const std::shared_ptr<const Features> features;
+
+  // [map] pose.
+  const SE3& T_c_w() const { return T_c_w_; }
+  SE3 T_w_c() const { return T_c_w_.Inverse(); }
+  Eigen::Vector3d center() const { return T_w_c_translation_; }
+  void SetPose(const SE3& T_c_w);
+
+  // [map] map points by keypoint index (nullptr where none).
+  const std::vector<std::shared_ptr<MapPoint>>& map_points() const { return map_points_; }
+  const std::shared_ptr<MapPoint>& map_point(std::size_t i) const { return map_points_[i]; }
+  void SetMapPoint(std::size_t i, std::shared_ptr<MapPoint> point) { map_points_[i] = std::move(point); }
+  void EraseMapPoint(std::size_t i) { map_points_[i].reset(); }
+  // Good map points seen by at least min_observations keyframes.
+  int TrackedMapPoints(int min_observations) const;
+
+  // [map] covisibility graph: weight = number of shared map points.
+  void UpdateConnections();  // recomputes this keyframe's edges from its map points
+  std::vector<std::shared_ptr<KeyFrame>> Covisibles(std::size_t n = SIZE_MAX) const;  // best first
+  std::vector<std::shared_ptr<KeyFrame>> CovisiblesWithWeight(int min_weight) const;
+  int Weight(std::uint64_t other_id) const;
+  void AddConnection(const std::shared_ptr<KeyFrame>& other, int weight);
+  void EraseConnection(std::uint64_t other_id);
+
+  // [map] spanning tree (set by the first UpdateConnections: the best covisible).
+  std::shared_ptr<KeyFrame> parent() const { return parent_.lock(); }
+  std::vector<std::shared_ptr<KeyFrame>> children() const;
+  void SetParent(const std::shared_ptr<KeyFrame>& parent);
+
+  // [map] culling. SetBad unlinks the keyframe from its points and neighbours and
+  // hands its children to other parents; the pose relative to the parent is kept
+  // so that frames tracked against this keyframe can still be placed.
+  bool bad() const { return bad_; }
+  void SetBad(Map& map);
+  const SE3& T_c_parent() const { return T_c_parent_; }
+  // The parent at the time of culling, held strongly so that the chain from a
+  // culled keyframe to a live one never breaks (parents are older: no cycles).
+  const std::shared_ptr<KeyFrame>& parent_when_culled() const { return parent_when_culled_; }
+
+  // Local mapping / tracking scratch (each touched by one thread only).
+  std::uint64_t ba_local_for_kf = 0, ba_fixed_for_kf = 0;  // local mapping
+  std::uint64_t track_local_for_frame = 0;                 // tracking
+
+ private:
+  void UpdateOrder();
+  void AddChild(const std::shared_ptr<KeyFrame>& child);
+  void EraseChild(std::uint64_t child_id);
+
+  SE3 T_c_w_;
+  Eigen::Vector3d T_w_c_translation_;
+  std::vector<std::shared_ptr<MapPoint>> map_points_;
+  std::map<std::uint64_t, std::pair<std::weak_ptr<KeyFrame>, int>> connections_;
+  std::vector<std::pair<int, std::weak_ptr<KeyFrame>>> ordered_;  // weight desc, id asc
+  std::weak_ptr<KeyFrame> parent_;
+  std::map<std::uint64_t, std::weak_ptr<KeyFrame>> children_;
+  bool has_parent_ = false;
+  bool bad_ = false;
+  SE3 T_c_parent_;
+  std::shared_ptr<KeyFrame> parent_when_culled_;
+};
+
+}  // namespace sgslam

@@ -1,0 +1,55 @@
+// The map: owner of every keyframe and map point.
+//
+// Lock order and rules (architecture.md): one map-level shared_mutex guards every
+// [map] field of keyframes and map points. Tracking reads under a shared lock and
+// takes it exclusively only to insert a keyframe; local mapping reads under a
+// shared lock and writes (new points, fusion, culling, BA results) under an
+// exclusive lock held briefly; optimisation itself runs on copies without a lock.
+// No other lock is ever taken while holding it, so there is no lock order to break.
+// Per-entity mutexes were tried in ORB-SLAM2 and led to its shutdown and reset
+// races; one readers-writer lock is simpler and TSan-clean at our scale.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <shared_mutex>
+#include <vector>
+
+#include "sgslam/map/keyframe.h"
+#include "sgslam/map/map_point.h"
+
+namespace sgslam {
+
+class Map {
+ public:
+  Map() = default;
+  ~Map();
+  Map(const Map&) = delete;
+  Map& operator=(const Map&) = delete;
+
+  std::shared_mutex& mutex() const { return mutex_; }
+
+  std::uint64_t NewKeyFrameId() { return next_keyframe_id_++; }
+  std::uint64_t NewMapPointId() { return next_point_id_++; }
+
+  // [map] membership; ordered by id so every traversal is deterministic.
+  void AddKeyFrame(const std::shared_ptr<KeyFrame>& kf) { keyframes_[kf->id] = kf; }
+  void EraseKeyFrame(std::uint64_t id) { keyframes_.erase(id); }
+  void AddMapPoint(const std::shared_ptr<MapPoint>& p) { points_[p->id] = p; }
+  void EraseMapPoint(std::uint64_t id) { points_.erase(id); }
+  const std::map<std::uint64_t, std::shared_ptr<KeyFrame>>& keyframes() const { return keyframes_; }
+  const std::map<std::uint64_t, std::shared_ptr<MapPoint>>& map_points() const { return points_; }
+
+  // Breaks every link between entities so that shared ownership cycles cannot leak.
+  void Clear();
+
+ private:
+  mutable std::shared_mutex mutex_;
+  std::atomic<std::uint64_t> next_keyframe_id_{0}, next_point_id_{0};
+  std::map<std::uint64_t, std::shared_ptr<KeyFrame>> keyframes_;
+  std::map<std::uint64_t, std::shared_ptr<MapPoint>> points_;
+};
+
+}  // namespace sgslam

@@ -1,0 +1,86 @@
+// Local bundle adjustment of the new keyframe's neighbourhood (ORB-SLAM2's
+// LocalBundleAdjustment): the keyframe and its covisibles are free, the other
+// keyframes that see their points are fixed. The problem is copied out under the
+// shared lock, solved without a lock, and written back under the exclusive lock.
+#include <map>
+#include <mutex>
+#include <shared_mutex>
+
+#include "sgslam/mapping/local_mapper.h"
+#include "sgslam/optim/local_ba.h"
+
+namespace sgslam {
+
+bool LocalMapper::LocalBundleAdjustment(const std::shared_ptr<KeyFrame>& kf,
+                                        const std::function<bool()>& interrupted) {
+  optim::BaProblem problem;
+  std::vector<std::shared_ptr<KeyFrame>> keyframes;
+  std::vector<std::shared_ptr<MapPoint>> points;
+  {
+    std::shared_lock lock(map_.mutex());
+    if (map_.keyframes().size() <= 2) return true;
+    const Camera& cam = *kf->features->camera;
+    problem.intrinsics = {cam.fx(), cam.fy(), cam.cx(), cam.cy(), cam.baseline_fx()};
+    std::map<std::uint64_t, int> kf_index;
+    const auto add_kf = [&](const std::shared_ptr<KeyFrame>& k, bool fixed) {
+      kf_index[k->id] = static_cast<int>(keyframes.size());
+      keyframes.push_back(k);
+      problem.keyframes.push_back({k->id, k->T_c_w(), fixed || k->id == 0});
+    };
+    add_kf(kf, false);
+    for (const auto& k : kf->Covisibles()) add_kf(k, false);
+    const std::size_t local_count = keyframes.size();
+    std::map<std::uint64_t, int> point_index;
+    for (std::size_t k = 0; k < local_count; ++k) {
+      for (const auto& p : keyframes[k]->map_points()) {
+        if (!p || p->bad() || point_index.count(p->id)) continue;
+        point_index[p->id] = static_cast<int>(points.size());
+        points.push_back(p);
+        problem.points.push_back({p->id, p->position()});
+      }
+    }
+    for (std::size_t pi = 0; pi < points.size(); ++pi) {
+      for (const auto& [kf_id, obs] : points[pi]->observations()) {
+        const auto other = obs.keyframe.lock();
+        if (!other || other->bad()) continue;
+        if (!kf_index.count(kf_id)) add_kf(other, /*fixed=*/true);
+        const Features& f = *other->features;
+        optim::BaObservation o;
+        o.keyframe = kf_index[kf_id];
+        o.point = static_cast<int>(pi);
+        o.uv = {f.keys_un[obs.index].pt.x, f.keys_un[obs.index].pt.y};
+        o.u_right = f.u_right[obs.index];
+        o.inv_sigma2 = f.scale->inv_sigma2[static_cast<std::size_t>(f.keys_un[obs.index].octave)];
+        problem.observations.push_back(o);
+      }
+    }
+  }
+  optim::BaOptions options;
+  options.first_iterations = config_.mapping.ba_first_iterations;
+  options.second_iterations = config_.mapping.ba_second_iterations;
+  const optim::BaResult result = optim::SolveLocalBa(problem, options, interrupted);
+
+  std::unique_lock lock(map_.mutex());
+  for (std::size_t o = 0; o < problem.observations.size(); ++o) {
+    if (!result.outlier[o]) continue;
+    const auto& obs = problem.observations[o];
+    const auto& k = keyframes[static_cast<std::size_t>(obs.keyframe)];
+    const auto& p = points[static_cast<std::size_t>(obs.point)];
+    if (p->bad() || k->bad()) continue;
+    const int index = p->IndexIn(k->id);
+    if (index < 0) continue;
+    k->EraseMapPoint(static_cast<std::size_t>(index));
+    if (p->EraseObservation(k->id)) p->SetBad(map_);
+  }
+  for (std::size_t k = 0; k < keyframes.size(); ++k) {
+    if (!problem.keyframes[k].fixed && !keyframes[k]->bad()) keyframes[k]->SetPose(result.T_c_w[k]);
+  }
+  for (std::size_t pi = 0; pi < points.size(); ++pi) {
+    if (points[pi]->bad()) continue;
+    points[pi]->SetPosition(result.p_w[pi]);
+    points[pi]->UpdateNormalAndDepth();
+  }
+  return !result.aborted;
+}
+
+}  // namespace sgslam

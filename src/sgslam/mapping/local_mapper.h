@@ -1,0 +1,51 @@
+// Local mapping (ORB-SLAM2's LocalMapping, for RGB-D): for each new keyframe,
+// insert it into the map, cull recent points that do not hold up, triangulate new
+// points with covisible keyframes, fuse duplicates, run local bundle adjustment and
+// cull redundant keyframes.
+//
+// Threading: Process() runs on the local mapping thread (or inline in sequential
+// mode). It reads under Map::mutex() shared and writes under it exclusively, in
+// short sections; the optimisation itself runs on copies without the lock.
+#pragma once
+
+#include <functional>
+#include <list>
+#include <memory>
+
+#include "sgslam/config/config.h"
+#include "sgslam/map/map.h"
+
+namespace sgslam {
+
+struct MappingStats {
+  double ms = 0;
+  int new_points = 0;
+  int fused = 0;
+  int culled_points = 0;
+  int culled_keyframes = 0;
+  bool ba_done = false, ba_aborted = false;
+};
+
+class LocalMapper {
+ public:
+  LocalMapper(const Config& config, Map& map);
+
+  // `interrupted` is polled during the expensive steps: true when another
+  // keyframe waits, so fusion and BA are skipped or aborted (ORB-SLAM2).
+  MappingStats Process(const std::shared_ptr<KeyFrame>& kf, const std::function<bool()>& interrupted);
+
+ private:
+  void InsertKeyFrame(const std::shared_ptr<KeyFrame>& kf);
+  int CullRecentPoints(const std::shared_ptr<KeyFrame>& kf);
+  int CreateNewMapPoints(const std::shared_ptr<KeyFrame>& kf);
+  int SearchInNeighbors(const std::shared_ptr<KeyFrame>& kf);
+  bool LocalBundleAdjustment(const std::shared_ptr<KeyFrame>& kf, const std::function<bool()>& interrupted);
+  int CullKeyFrames(const std::shared_ptr<KeyFrame>& kf);
+
+  const Config config_;
+  Map& map_;
+  double th_depth_ = 0;  // m, close/far limit of depth points
+  std::list<std::shared_ptr<MapPoint>> recent_points_;
+};
+
+}  // namespace sgslam

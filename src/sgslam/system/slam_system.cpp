@@ -1,0 +1,135 @@
+#include "sgslam/system/slam_system.h"
+
+#include <opencv2/imgproc.hpp>
+#include <shared_mutex>
+
+#include "sgslam/common/stats.h"
+#include "sgslam/map/map_check.h"
+
+namespace sgslam {
+
+SlamSystem::SlamSystem(const Config& config, bool sequential)
+    : config_(config),
+      sequential_(sequential),
+      camera_(std::make_shared<Camera>(config.camera)),
+      scale_(std::make_shared<ScaleLevels>(features::MakeScaleLevels(config.orb.scale_factor, config.orb.levels))),
+      extractor_(config.orb),
+      tracker_(config, map_),
+      mapper_(config, map_),
+      queue_(static_cast<std::size_t>(config.mapping.queue_size)) {
+  if (!sequential_) mapping_thread_ = std::thread([this] { MappingLoop(); });
+}
+
+SlamSystem::~SlamSystem() { Finish(); }
+
+void SlamSystem::Finish() {
+  if (finished_) return;
+  finished_ = true;
+  queue_.Shutdown();  // the thread drains what is queued, then exits
+  if (mapping_thread_.joinable()) mapping_thread_.join();
+}
+
+void SlamSystem::MappingLoop() {
+  while (auto kf = queue_.Pop()) {
+    mapping_busy_ = true;
+    const MappingStats stats = mapper_.Process(*kf, [this] { return queue_.size() > 0; });
+    {
+      std::lock_guard lock(stats_mutex_);
+      mapping_stats_.push_back(stats);
+    }
+    mapping_busy_ = false;
+  }
+}
+
+FrameReport SlamSystem::Process(const RgbdImages& images) {
+  Stopwatch total;
+  FrameReport report;
+  report.index = images.index;
+  report.t = images.t;
+
+  Stopwatch watch;
+  cv::Mat gray;
+  cv::cvtColor(images.bgr, gray, cv::COLOR_BGR2GRAY);
+  std::vector<cv::KeyPoint> keys;
+  cv::Mat descriptors;
+  extractor_.Extract(gray, keys, descriptors);
+  Frame frame(next_frame_id_++, images.t,
+              MakeFeatures(std::move(keys), std::move(descriptors), images.depth, camera_, scale_), gray);
+  report.features = static_cast<int>(frame.size());
+  report.extract_ms = watch.ElapsedMs();
+
+  watch.Restart();
+  const bool idle = sequential_ || (!mapping_busy_ && queue_.size() == 0);
+  const TrackResult result = tracker_.Track(frame, idle, sequential_ ? 0 : queue_.size());
+  report.state = result.state;
+  report.matches = result.matches;
+  report.inliers = result.inliers;
+  report.track_ms = watch.ElapsedMs();
+  if (result.state == TrackState::kOk && frame.reference_kf) {
+    std::shared_lock lock(map_.mutex());
+    records_.push_back({frame.t, frame.reference_kf, frame.T_c_w * frame.reference_kf->T_w_c()});
+  }
+  if (result.new_keyframe) {
+    report.keyframe = true;
+    if (sequential_) {
+      std::lock_guard lock(stats_mutex_);
+      mapping_stats_.push_back(mapper_.Process(result.new_keyframe, [] { return false; }));
+    } else {
+      queue_.Push(result.new_keyframe);
+    }
+  }
+  report.total_ms = total.ElapsedMs();
+  return report;
+}
+
+Trajectory SlamSystem::FrameTrajectory() const {
+  std::shared_lock lock(map_.mutex());
+  Trajectory out;
+  out.reserve(records_.size());
+  for (const auto& r : records_) {
+    // A culled reference hands the frame to its parent (ORB-SLAM2's trajectory export).
+    SE3 T_c_r = r.T_c_r;
+    std::shared_ptr<KeyFrame> ref = r.reference;
+    while (ref && ref->bad()) {
+      T_c_r = T_c_r * ref->T_c_parent();
+      ref = ref->parent_when_culled();
+    }
+    if (!ref) continue;
+    out.push_back({r.t, (T_c_r * ref->T_c_w()).Inverse()});
+  }
+  return out;
+}
+
+Trajectory SlamSystem::KeyFrameTrajectory() const {
+  std::shared_lock lock(map_.mutex());
+  Trajectory out;
+  for (const auto& [id, kf] : map_.keyframes()) out.push_back({kf->t, kf->T_w_c()});
+  return out;
+}
+
+std::vector<Eigen::Vector3d> SlamSystem::MapPointPositions() const {
+  std::shared_lock lock(map_.mutex());
+  std::vector<Eigen::Vector3d> out;
+  out.reserve(map_.map_points().size());
+  for (const auto& [id, p] : map_.map_points()) {
+    if (!p->bad()) out.push_back(p->position());
+  }
+  return out;
+}
+
+std::size_t SlamSystem::NumKeyFrames() const {
+  std::shared_lock lock(map_.mutex());
+  return map_.keyframes().size();
+}
+
+std::vector<std::string> SlamSystem::CheckMap() const {
+  std::shared_lock lock(map_.mutex());
+  return CheckMapConsistency(map_);
+}
+
+std::vector<MappingStats> SlamSystem::mapping_stats() const {
+  std::lock_guard lock(stats_mutex_);
+  return mapping_stats_;
+}
+
+}  // namespace sgslam

@@ -1,0 +1,84 @@
+// The SLAM system facade: owns the map, the tracker, local mapping and its thread,
+// and turns RGB-D images into poses. In sequential mode every module is stepped
+// in the caller's thread, so output is identical on every run; otherwise local
+// mapping runs on its own thread fed by a bounded keyframe queue.
+//
+// Threading: Process() and the result accessors are called from one thread.
+#pragma once
+
+#include <atomic>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include "sgslam/common/bounded_queue.h"
+#include "sgslam/config/config.h"
+#include "sgslam/features/orb_extractor.h"
+#include "sgslam/io/trajectory.h"
+#include "sgslam/io/tum_dataset.h"
+#include "sgslam/map/map.h"
+#include "sgslam/mapping/local_mapper.h"
+#include "sgslam/tracking/tracker.h"
+
+namespace sgslam {
+
+struct FrameReport {
+  std::size_t index = 0;
+  Timestamp t = 0;
+  TrackState state = TrackState::kNotInitialized;
+  int features = 0, matches = 0, inliers = 0;
+  bool keyframe = false;
+  double extract_ms = 0, track_ms = 0, total_ms = 0;
+};
+
+class SlamSystem {
+ public:
+  SlamSystem(const Config& config, bool sequential);
+  ~SlamSystem();
+  SlamSystem(const SlamSystem&) = delete;
+  SlamSystem& operator=(const SlamSystem&) = delete;
+
+  FrameReport Process(const RgbdImages& images);
+  // Lets local mapping finish the queued keyframes and stops its thread.
+  void Finish();
+
+  // Every tracked frame, T_w_c, placed relative to its reference keyframe's final pose.
+  Trajectory FrameTrajectory() const;
+  Trajectory KeyFrameTrajectory() const;
+  std::vector<Eigen::Vector3d> MapPointPositions() const;
+  std::size_t NumKeyFrames() const;
+  // Map consistency problems (empty when consistent); call after Finish().
+  std::vector<std::string> CheckMap() const;
+  std::vector<MappingStats> mapping_stats() const;
+
+ private:
+  void MappingLoop();
+
+  const Config config_;
+  const bool sequential_;
+  std::shared_ptr<const Camera> camera_;
+  std::shared_ptr<const ScaleLevels> scale_;
+  features::OrbExtractor extractor_;
+  Map map_;
+  Tracker tracker_;
+  LocalMapper mapper_;
+
+  struct PoseRecord {
+    Timestamp t;
+    std::shared_ptr<KeyFrame> reference;
+    SE3 T_c_r;  // frame pose relative to the reference keyframe
+  };
+  std::vector<PoseRecord> records_;
+  std::uint64_t next_frame_id_ = 0;
+
+  BoundedQueue<std::shared_ptr<KeyFrame>> queue_;
+  std::atomic<bool> mapping_busy_{false};
+  std::atomic<bool> finishing_{false};
+  mutable std::mutex stats_mutex_;
+  std::vector<MappingStats> mapping_stats_;  // guarded by stats_mutex_
+  std::thread mapping_thread_;
+  bool finished_ = false;
+};
+
+}  // namespace sgslam

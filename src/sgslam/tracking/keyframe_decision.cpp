@@ -1,0 +1,84 @@
+// The keyframe decision and keyframe creation of the tracker (ORB-SLAM2's
+// NeedNewKeyFrame / CreateNewKeyFrame for RGB-D).
+#include <algorithm>
+#include <mutex>
+#include <shared_mutex>
+
+#include "sgslam/tracking/tracker.h"
+
+namespace sgslam {
+
+bool Tracker::NeedNewKeyFrame(const Frame& frame, int inliers, bool mapping_idle, std::size_t mapping_queue) const {
+  if (mapping_queue >= static_cast<std::size_t>(config_.mapping.queue_size)) return false;
+  const std::size_t keyframes = map_.keyframes().size();
+  const int min_obs = keyframes <= 2 ? 2 : 3;
+  const int ref_tracked = reference_kf_ ? reference_kf_->TrackedMapPoints(min_obs) : 0;
+
+  // Close points (reliable depth) tracked and not tracked: a view of much new
+  // close structure needs a keyframe even when the tracked ratio is still high,
+  // which keeps tracking alive through fast rotations.
+  int close_tracked = 0, close_untracked = 0;
+  const auto& depth = frame.features->depth;
+  for (std::size_t i = 0; i < depth.size(); ++i) {
+    if (depth[i] <= 0 || depth[i] >= th_depth_ || frame.rejected[i]) continue;
+    if (frame.map_points[i] && !frame.outlier[i]) ++close_tracked;
+    else ++close_untracked;
+  }
+  const bool need_close = close_tracked < config_.tracking.close_tracked_min &&
+                          close_untracked > config_.tracking.close_untracked_min;
+  const double ratio = keyframes < 2 ? 0.4 : config_.tracking.keyframe_ref_ratio;
+  const std::uint64_t max_gap = config_.tracking.max_frames_between_keyframes > 0
+                                    ? static_cast<std::uint64_t>(config_.tracking.max_frames_between_keyframes)
+                                    : static_cast<std::uint64_t>(config_.camera.fps);
+  const std::uint64_t since = frame.id - last_keyframe_frame_id_;
+  const bool c1a = since >= max_gap;
+  const bool c1b = mapping_idle;
+  const bool c1c = inliers < ref_tracked * 0.25 || need_close;
+  const bool c2 = (inliers < ref_tracked * ratio || need_close) && inliers > 15;
+  return (c1a || c1b || c1c) && c2;
+}
+
+std::shared_ptr<KeyFrame> Tracker::CreateKeyFrame(Frame& frame) {
+  std::unique_lock lock(map_.mutex());
+  auto kf = std::make_shared<KeyFrame>(map_.NewKeyFrameId(), frame.id, frame.t, frame.features, frame.T_c_w);
+  // Matched points join the keyframe now; local mapping adds the observations.
+  for (std::size_t i = 0; i < frame.map_points.size(); ++i) {
+    const auto& p = frame.map_points[i];
+    if (p && !frame.outlier[i] && !p->bad()) kf->SetMapPoint(i, p);
+  }
+  AddDepthPoints(frame, kf, /*all=*/false);
+  reference_kf_ = kf;
+  frame.reference_kf = kf;
+  last_keyframe_frame_id_ = frame.id;
+  return kf;
+}
+
+int Tracker::AddDepthPoints(Frame& frame, const std::shared_ptr<KeyFrame>& kf, bool all) {
+  const Features& f = *frame.features;
+  std::vector<std::pair<float, std::size_t>> by_depth;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    if (f.depth[i] > 0 && !frame.rejected[i]) by_depth.emplace_back(f.depth[i], i);
+  }
+  std::sort(by_depth.begin(), by_depth.end());
+  const SE3 T_w_c = frame.T_c_w.Inverse();
+  int created = 0, visited = 0;
+  for (const auto& [d, i] : by_depth) {
+    // All close points, and at least keyframe_min_new_points in total (ORB-SLAM2).
+    if (!all && d > th_depth_ && visited > config_.tracking.keyframe_min_new_points) break;
+    ++visited;
+    const auto& existing = kf->map_point(i);
+    if (existing && existing->num_observations() > 0) continue;
+    auto p = std::make_shared<MapPoint>(map_.NewMapPointId(), T_w_c * f.Unproject(i), kf);
+    p->AddObservation(kf, i);
+    kf->SetMapPoint(i, p);
+    p->UpdateDescriptor();
+    p->UpdateNormalAndDepth();
+    map_.AddMapPoint(p);
+    frame.map_points[i] = p;
+    frame.outlier[i] = 0;
+    ++created;
+  }
+  return created;
+}
+
+}  // namespace sgslam

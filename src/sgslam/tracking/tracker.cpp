@@ -1,0 +1,196 @@
+#include "sgslam/tracking/tracker.h"
+
+#include <algorithm>
+#include <mutex>
+#include <numeric>
+#include <shared_mutex>
+
+#include "sgslam/features/matcher.h"
+#include "sgslam/optim/pose_optimizer.h"
+
+namespace sgslam {
+
+const char* ToString(TrackState state) {
+  switch (state) {
+    case TrackState::kNotInitialized: return "not_initialized";
+    case TrackState::kOk: return "ok";
+    case TrackState::kLost: return "lost";
+  }
+  return "?";
+}
+
+Tracker::Tracker(const Config& config, Map& map) : config_(config), map_(map) {
+  // ORB-SLAM2: points closer than ThDepth baselines are "close" (reliable depth).
+  th_depth_ = config.camera.baseline_fx * config.camera.close_depth / config.camera.fx;
+}
+
+TrackResult Tracker::Track(Frame& frame, bool mapping_idle, std::size_t mapping_queue) {
+  TrackResult result;
+  if (state_ == TrackState::kNotInitialized) {
+    if (Initialize(frame, result)) {
+      state_ = TrackState::kOk;
+      last_frame_ = frame;
+    }
+    result.state = state_;
+    return result;
+  }
+
+  bool ok = false;
+  {
+    std::shared_lock lock(map_.mutex());
+    if (state_ == TrackState::kOk) {
+      ok = (has_velocity_ && TrackWithMotionModel(frame, result)) ||
+           TrackReferenceKeyFrame(frame, reference_kf_, result);
+    } else {
+      ok = Recover(frame, result);
+    }
+    if (ok) ok = TrackLocalMap(frame, result);
+  }
+
+  if (!ok) {
+    // Lost: the map stays untouched; the next frame starts from the last good pose.
+    state_ = TrackState::kLost;
+    has_velocity_ = false;
+    frame.has_pose = false;
+    result.state = state_;
+    return result;
+  }
+  state_ = TrackState::kOk;
+  frame.has_pose = true;
+  frame.reference_kf = reference_kf_;
+  velocity_ = frame.T_c_w * last_frame_.T_c_w.Inverse();
+  has_velocity_ = last_frame_.has_pose;
+
+  bool need_keyframe = false;
+  {
+    std::shared_lock lock(map_.mutex());
+    need_keyframe = NeedNewKeyFrame(frame, result.inliers, mapping_idle, mapping_queue);
+  }
+  if (need_keyframe) result.new_keyframe = CreateKeyFrame(frame);
+  // Outliers of this frame must not seed the next frame's motion search.
+  DiscardOutliers(frame);
+  last_frame_ = frame;
+  result.state = state_;
+  return result;
+}
+
+bool Tracker::Initialize(Frame& frame, TrackResult& result) {
+  const auto& depth = frame.features->depth;
+  const auto with_depth = std::count_if(depth.begin(), depth.end(), [](float d) { return d > 0; });
+  if (with_depth < config_.tracking.min_init_points) return false;
+  frame.T_c_w = SE3();  // the first keyframe defines the world frame
+  frame.has_pose = true;
+  std::unique_lock lock(map_.mutex());
+  auto kf = std::make_shared<KeyFrame>(map_.NewKeyFrameId(), frame.id, frame.t, frame.features, frame.T_c_w);
+  AddDepthPoints(frame, kf, /*all=*/true);
+  map_.AddKeyFrame(kf);
+  reference_kf_ = kf;
+  frame.reference_kf = kf;
+  last_keyframe_frame_id_ = frame.id;
+  result.new_keyframe = kf;
+  result.inliers = kf->TrackedMapPoints(1);
+  return true;
+}
+
+bool Tracker::TrackWithMotionModel(Frame& frame, TrackResult& result) {
+  frame.T_c_w = velocity_ * last_frame_.T_c_w;
+  std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
+  const double r = config_.tracking.motion_search_radius;
+  int n = matcher::SearchByProjection(frame, last_frame_, r);
+  if (n < config_.tracking.min_motion_matches) {  // a wider window before giving up
+    std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
+    n = matcher::SearchByProjection(frame, last_frame_, 2 * r);
+  }
+  result.matches = n;
+  if (n < config_.tracking.min_motion_matches) return false;
+  const int inliers = OptimizePose(frame);
+  DiscardOutliers(frame);
+  return inliers >= config_.tracking.min_pose_inliers;
+}
+
+void Tracker::DiscardOutliers(Frame& frame) {
+  for (std::size_t i = 0; i < frame.map_points.size(); ++i) {
+    if (frame.outlier[i]) {
+      frame.map_points[i].reset();
+      frame.outlier[i] = 0;
+    }
+  }
+}
+
+bool Tracker::TrackReferenceKeyFrame(Frame& frame, const std::shared_ptr<KeyFrame>& keyframe, TrackResult& result) {
+  if (!keyframe || keyframe->bad()) return false;
+  std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
+  const int n = matcher::SearchByDescriptor(*keyframe, frame, config_.tracking.descriptor_ratio);
+  result.matches = n;
+  if (n < 15) return false;
+  frame.T_c_w = last_frame_.T_c_w;
+  const int inliers = OptimizePose(frame);
+  DiscardOutliers(frame);
+  if (inliers < config_.tracking.min_pose_inliers) return false;
+  reference_kf_ = keyframe;
+  return true;
+}
+
+bool Tracker::Recover(Frame& frame, TrackResult& result) {
+  // Without relocalisation: try the keyframes nearest to the last good pose.
+  const Eigen::Vector3d last_center = last_frame_.center();
+  std::vector<std::pair<double, std::shared_ptr<KeyFrame>>> near;
+  for (const auto& [id, kf] : map_.keyframes()) near.emplace_back((kf->center() - last_center).norm(), kf);
+  std::stable_sort(near.begin(), near.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  if (near.size() > 5) near.resize(5);
+  for (const auto& [d, kf] : near) {
+    if (TrackReferenceKeyFrame(frame, kf, result)) return true;
+  }
+  return false;
+}
+
+bool Tracker::TrackLocalMap(Frame& frame, TrackResult& result) {
+  if (auto ref = local_map_.Update(frame)) reference_kf_ = ref;
+  local_map_.Search(frame, config_.tracking.local_search_radius);
+  result.matches = static_cast<int>(std::count_if(frame.map_points.begin(), frame.map_points.end(),
+                                                  [](const auto& p) { return p != nullptr; }));
+  OptimizePose(frame);
+  int inliers = 0;
+  for (std::size_t i = 0; i < frame.map_points.size(); ++i) {
+    const auto& p = frame.map_points[i];
+    if (!p || frame.outlier[i]) continue;
+    p->IncreaseFound();
+    if (p->num_observations() > 0) ++inliers;
+  }
+  result.inliers = inliers;
+  return inliers >= config_.tracking.min_local_inliers;
+}
+
+int Tracker::OptimizePose(Frame& frame) {
+  const Features& f = *frame.features;
+  const Camera& cam = *f.camera;
+  std::vector<optim::PoseObservation> obs;
+  std::vector<std::size_t> index;
+  for (std::size_t i = 0; i < frame.map_points.size(); ++i) {
+    const auto& p = frame.map_points[i];
+    if (!p) continue;
+    optim::PoseObservation o;
+    o.p_w = p->position();
+    o.uv = {f.keys_un[i].pt.x, f.keys_un[i].pt.y};
+    o.u_right = f.u_right[i];
+    o.inv_sigma2 = f.scale->inv_sigma2[static_cast<std::size_t>(f.keys_un[i].octave)];
+    obs.push_back(o);
+    index.push_back(i);
+  }
+  std::fill(frame.outlier.begin(), frame.outlier.end(), 0);
+  if (obs.size() < 3) return 0;
+  const optim::Intrinsics K{cam.fx(), cam.fy(), cam.cx(), cam.cy(), cam.baseline_fx()};
+  const auto r = optim::OptimizePose(frame.T_c_w, obs, K);
+  frame.T_c_w = r.T_c_w;
+  int inliers = 0;
+  for (std::size_t k = 0; k < index.size(); ++k) {
+    if (r.inlier[k]) {
+      if (frame.map_points[index[k]]->num_observations() > 0) ++inliers;
+    } else {
+      frame.outlier[index[k]] = 1;
+    }
+  }
+  return inliers;
+}
+
+}  // namespace sgslam

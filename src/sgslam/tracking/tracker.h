@@ -1,0 +1,68 @@
+// Tracking (ORB-SLAM2's Tracking for RGB-D, split into small steps): map
+// initialisation, constant-velocity tracking, reference-keyframe tracking,
+// local-map tracking, the keyframe decision and keyframe creation.
+//
+// Threading: called by one thread (the tracking thread, or the only thread in
+// sequential mode). Reads the map under Map::mutex() shared and takes it
+// exclusively only to create a keyframe and its new points.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "sgslam/config/config.h"
+#include "sgslam/map/frame.h"
+#include "sgslam/map/map.h"
+#include "sgslam/tracking/local_map.h"
+
+namespace sgslam {
+
+enum class TrackState { kNotInitialized, kOk, kLost };
+const char* ToString(TrackState state);
+
+struct TrackResult {
+  TrackState state = TrackState::kNotInitialized;
+  int matches = 0;  // map points matched before the last pose optimisation
+  int inliers = 0;  // after it
+  std::shared_ptr<KeyFrame> new_keyframe;  // for local mapping, when one was made
+};
+
+class Tracker {
+ public:
+  Tracker(const Config& config, Map& map);
+
+  // mapping_idle / mapping_queue: whether local mapping is free and how many
+  // keyframes wait for it (the keyframe decision takes both into account).
+  TrackResult Track(Frame& frame, bool mapping_idle, std::size_t mapping_queue);
+
+  TrackState state() const { return state_; }
+
+ private:
+  bool Initialize(Frame& frame, TrackResult& result);
+  bool TrackWithMotionModel(Frame& frame, TrackResult& result);
+  bool TrackReferenceKeyFrame(Frame& frame, const std::shared_ptr<KeyFrame>& keyframe, TrackResult& result);
+  bool Recover(Frame& frame, TrackResult& result);
+  bool TrackLocalMap(Frame& frame, TrackResult& result);
+  // Pose-only optimisation of the frame's matches; drops outliers; returns the
+  // number of inliers that are map points.
+  int OptimizePose(Frame& frame);
+  static void DiscardOutliers(Frame& frame);
+  bool NeedNewKeyFrame(const Frame& frame, int inliers, bool mapping_idle, std::size_t mapping_queue) const;
+  std::shared_ptr<KeyFrame> CreateKeyFrame(Frame& frame);
+  // Creates map points from the depth of keypoints without one (close first).
+  int AddDepthPoints(Frame& frame, const std::shared_ptr<KeyFrame>& kf, bool all);
+
+  const Config config_;
+  Map& map_;
+  LocalMap local_map_;
+  TrackState state_ = TrackState::kNotInitialized;
+  Frame last_frame_;
+  bool has_velocity_ = false;
+  SE3 velocity_;  // T_cur_last of the last two tracked frames
+  std::shared_ptr<KeyFrame> reference_kf_;
+  std::uint64_t last_keyframe_frame_id_ = 0;
+  double th_depth_ = 0;  // m, the close/far limit of depth points
+};
+
+}  // namespace sgslam
