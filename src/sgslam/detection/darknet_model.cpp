@@ -1,0 +1,142 @@
+#include "sgslam/detection/darknet_model.h"
+
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "sgslam/common/error.h"
+
+namespace sgslam {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string ReadWholeFile(const fs::path& path, const char* what) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) throw InputError(std::string(what) + " not found: " + path.string());
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in) throw InputError(std::string("cannot read ") + what + ": " + path.string());
+  return text.str();
+}
+
+std::string Trim(const std::string& s) {
+  const auto first = s.find_first_not_of(" \t\r");
+  if (first == std::string::npos) return "";
+  return s.substr(first, s.find_last_not_of(" \t\r") - first + 1);
+}
+
+// Gives every [yolo] section thresh = floor (replacing a thresh it may have) and
+// returns the class count of the last [yolo] section (0 when there is none).
+std::string SetYoloThreshold(const std::string& cfg, float floor, int& classes) {
+  std::istringstream in(cfg);
+  std::string line, out, section;
+  classes = 0;
+  while (std::getline(in, line)) {
+    const std::string t = Trim(line);
+    if (!t.empty() && t.front() == '[') {
+      section = t;
+      out += line + "\n";
+      if (section == "[yolo]") out += "thresh=" + std::to_string(floor) + "\n";
+      continue;
+    }
+    const auto eq = t.find('=');
+    const std::string key = eq == std::string::npos ? "" : Trim(t.substr(0, eq));
+    if (section == "[yolo]" && key == "thresh") continue;
+    if (section == "[yolo]" && key == "classes") classes = std::atoi(t.c_str() + eq + 1);
+    out += line + "\n";
+  }
+  return out;
+}
+
+std::vector<std::string> ParseNames(const std::string& text) {
+  std::vector<std::string> names;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    if (const std::string name = Trim(line); !name.empty()) names.push_back(name);
+  }
+  return names;
+}
+
+// Darknet weights: int32 major, minor, revision, then "seen" (int64 from version
+// 0.2 on), then float32 parameters. The parameters equal the blobs OpenCV builds
+// from them (conv weights and biases, batch-norm scale/mean/variance); the Region
+// layers' anchors come from the cfg. Checked on both Yolo-Fastest 1.1 models.
+void CheckWeightsSize(const cv::dnn::Net& net, const std::string& weights, const DarknetModel& m) {
+  std::int32_t version[3] = {0, 0, 0};
+  if (weights.size() < sizeof version) throw InputError("weights file too short: " + m.weights.string());
+  std::memcpy(version, weights.data(), sizeof version);
+  const bool long_seen = version[0] * 10 + version[1] >= 2 && version[0] < 1000 && version[1] < 1000;
+  std::size_t expected = sizeof version + (long_seen ? 8 : 4);
+  for (const auto& name : net.getLayerNames()) {
+    const cv::Ptr<cv::dnn::Layer> layer = net.getLayer(name);
+    if (layer->type == "Region") continue;
+    for (const cv::Mat& blob : layer->blobs) expected += blob.total() * sizeof(float);
+  }
+  if (weights.size() != expected) {
+    throw InputError("weights file does not fit its cfg (" + std::to_string(weights.size()) + " bytes, " +
+                     m.cfg.filename().string() + " needs " + std::to_string(expected) +
+                     "): truncated or from another model: " + m.weights.string());
+  }
+}
+
+}  // namespace
+
+fs::path ResolveModelDir(const std::string& model_dir) {
+  fs::path dir = model_dir;
+  if (dir.empty()) {
+    const char* env = std::getenv("SGSLAM_MODEL_DIR");
+    if (env == nullptr || *env == '\0') {
+      throw InputError(
+          "no detector model folder: set detector.model_dir in the config, pass --model DIR, or set the "
+          "environment variable SGSLAM_MODEL_DIR (e.g. export "
+          "SGSLAM_MODEL_DIR=../shared/models/yolo-fastest-1.1-coco)");
+    }
+    dir = env;
+  }
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec)) throw InputError("detector model folder not found: " + dir.string());
+  return dir;
+}
+
+DarknetModel LoadDarknetModel(const fs::path& dir, const std::string& model, float score_floor) {
+  DarknetModel m;
+  m.cfg = dir / (model + ".cfg");
+  m.weights = dir / (model + ".weights");
+  const fs::path names_file = dir / "coco.names";
+  const std::string cfg_text = ReadWholeFile(m.cfg, "model cfg file");
+  const std::string weights = ReadWholeFile(m.weights, "model weights file");
+  m.class_names = ParseNames(ReadWholeFile(names_file, "class names file"));
+  int classes = 0;
+  const std::string cfg = SetYoloThreshold(cfg_text, score_floor, classes);
+  if (cfg_text.find("[net]") == std::string::npos || classes <= 0) {
+    throw InputError("not a Darknet YOLO cfg (needs [net] and [yolo] sections with classes=): " + m.cfg.string());
+  }
+  if (static_cast<int>(m.class_names.size()) != classes) {
+    throw InputError("class names file has " + std::to_string(m.class_names.size()) + " names, " +
+                     m.cfg.filename().string() + " has " + std::to_string(classes) +
+                     " classes: " + names_file.string());
+  }
+  // Parse the cfg alone first, so an error names the file that caused it.
+  try {
+    cv::dnn::readNetFromDarknet(cfg.data(), cfg.size());
+  } catch (const cv::Exception& e) {
+    throw InputError("OpenCV cannot parse the model cfg " + m.cfg.string() + ": " + e.err);
+  }
+  try {
+    m.net = cv::dnn::readNetFromDarknet(cfg.data(), cfg.size(), weights.data(), weights.size());
+  } catch (const cv::Exception& e) {
+    throw InputError("OpenCV cannot read the model weights " + m.weights.string() + ": " + e.err);
+  }
+  CheckWeightsSize(m.net, weights, m);
+  m.net.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
+  m.net.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
+  return m;
+}
+
+}  // namespace sgslam

@@ -1,0 +1,66 @@
+#include "sgslam/dynamic/depth_check.h"
+
+#include <cmath>
+#include <limits>
+
+namespace sgslam::dynamic {
+
+namespace {
+
+double DepthAt(const cv::Mat& depth, int x, int y, double depth_factor) {
+  if (depth.type() == CV_16U) return depth.at<std::uint16_t>(y, x) / depth_factor;
+  return depth.at<float>(y, x);
+}
+
+bool InRange(double z, const DynamicConfig& c) { return std::isfinite(z) && z >= c.depth_min && z <= c.depth_max; }
+
+Eigen::Vector2d Undistorted(const DepthCheckInput& in, cv::Point2f p) {
+  const Eigen::Vector2d raw(p.x, p.y);
+  return in.undistort ? in.undistort(raw) : raw;
+}
+
+}  // namespace
+
+std::vector<DepthResidual> CheckDepth(const std::vector<cv::Point2f>& prev, const std::vector<cv::Point2f>& cur,
+                                      const std::vector<bool>& use, const DepthCheckInput& input,
+                                      const DynamicConfig& config) {
+  std::vector<DepthResidual> out(prev.size());
+  const cv::Mat& d0 = input.prev_depth;
+  const cv::Mat& d1 = input.cur_depth;
+  if (d0.empty() || d1.empty()) return out;
+  const Pinhole& K = input.K;
+  for (size_t i = 0; i < prev.size(); ++i) {
+    if (!use[i]) continue;
+    const int x0 = cvRound(prev[i].x), y0 = cvRound(prev[i].y);
+    const int x1 = cvRound(cur[i].x), y1 = cvRound(cur[i].y);
+    if (x0 < 1 || y0 < 1 || x0 >= d0.cols - 1 || y0 >= d0.rows - 1) continue;
+    if (x1 < 1 || y1 < 1 || x1 >= d1.cols - 1 || y1 >= d1.rows - 1) continue;
+    const double z0 = DepthAt(d0, x0, y0, input.depth_factor);
+    if (!InRange(z0, config)) continue;
+    const Eigen::Vector2d u0 = Undistorted(input, prev[i]);
+    const Eigen::Vector3d X_prev((u0.x() - K.cx) / K.fx * z0, (u0.y() - K.cy) / K.fy * z0, z0);
+    const Eigen::Vector3d X_cur = input.T_cur_prev * X_prev;
+    if (X_cur.z() < config.depth_min) continue;
+    // The smallest depth error in the 3x3 neighbourhood: a static point next to a
+    // depth edge must not be flagged because rounding picked the other surface.
+    double best = std::numeric_limits<double>::infinity();
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dx = -1; dx <= 1; ++dx) {
+        const double z = DepthAt(d1, x1 + dx, y1 + dy, input.depth_factor);
+        if (InRange(z, config)) best = std::min(best, std::abs(X_cur.z() - z));
+      }
+    }
+    if (!std::isfinite(best)) continue;
+    DepthResidual& r = out[i];
+    r.valid = true;
+    r.depth_error = best;
+    const Eigen::Vector2d projected(K.fx * X_cur.x() / X_cur.z() + K.cx, K.fy * X_cur.y() / X_cur.z() + K.cy);
+    r.reprojection_error = (projected - Undistorted(input, cur[i])).norm();
+    const double z_tolerance = config.depth_tolerance + config.depth_tolerance_quadratic * X_cur.z() * X_cur.z();
+    r.moved = r.depth_error > z_tolerance ||
+              (config.reprojection_tolerance > 0 && r.reprojection_error > config.reprojection_tolerance);
+  }
+  return out;
+}
+
+}  // namespace sgslam::dynamic

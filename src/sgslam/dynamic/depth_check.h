@@ -1,0 +1,57 @@
+// A second, independent motion test from RGB-D (the paper's named blind spot: a
+// point moving along its epipolar line passes eq. 4). The previous point is lifted
+// with the previous depth, moved by the camera motion T_cur_prev and compared with
+// what the current frame measures: its depth at the current keypoint, and the
+// keypoint's position. A point is flagged as moved when
+//   |z_pred - z_meas| > depth_tolerance + depth_tolerance_quadratic * z^2
+// (Kinect depth noise grows with z^2, Khoshelham & Elberink 2012), or when the
+// reprojection error exceeds reprojection_tolerance px. The second term is what
+// catches the degenerate preset: a walker moving sideways parallel to the camera
+// keeps its depth and stays on its epipolar line, but not where a static point
+// would reproject.
+//
+// Coordinates: depth images are sampled at the raw keypoint/flow positions (TUM
+// depth is registered to the colour image). The geometry uses undistorted pixels:
+// pass `undistort` when the images are distorted; without it the positions are
+// taken as undistorted. T_cur_prev comes from tracking (motion model or the
+// optimised pose); its error adds to the tolerances, see the tests for a measure.
+#pragma once
+
+#include <Eigen/Core>
+#include <functional>
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "sgslam/common/se3.h"
+#include "sgslam/dynamic/dynamic_config.h"
+
+namespace sgslam::dynamic {
+
+struct Pinhole {
+  double fx = 0, fy = 0, cx = 0, cy = 0;  // px
+};
+
+using UndistortFn = std::function<Eigen::Vector2d(const Eigen::Vector2d&)>;  // raw px -> undistorted px
+
+struct DepthCheckInput {
+  cv::Mat prev_depth;          // CV_16U raw (see depth_factor) or CV_32F metres; 0 = no measurement
+  cv::Mat cur_depth;           // same encoding, same size as the grey images
+  double depth_factor = 5000;  // raw units per metre, CV_16U only
+  Pinhole K;
+  SE3 T_cur_prev;         // maps previous-camera points into the current camera
+  UndistortFn undistort;  // empty: positions are already undistorted
+};
+
+struct DepthResidual {
+  bool valid = false;             // both depths measured and in range
+  bool moved = false;             // beyond the tolerances
+  double depth_error = 0;         // m, |z_pred - z_meas|
+  double reprojection_error = 0;  // px
+};
+
+// One result per pair; pairs with use[i] false are skipped (valid false).
+std::vector<DepthResidual> CheckDepth(const std::vector<cv::Point2f>& prev, const std::vector<cv::Point2f>& cur,
+                                      const std::vector<bool>& use, const DepthCheckInput& input,
+                                      const DynamicConfig& config);
+
+}  // namespace sgslam::dynamic

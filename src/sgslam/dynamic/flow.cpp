@@ -1,0 +1,92 @@
+#include "sgslam/dynamic/flow.h"
+
+#include <cmath>
+#include <opencv2/video/tracking.hpp>
+
+namespace sgslam::dynamic {
+
+namespace {
+
+cv::Size Window(const DynamicConfig& c) { return {c.lk_window, c.lk_window}; }
+
+// An image or its pyramid, as calcOpticalFlowPyrLK takes either.
+cv::_InputArray LkInput(const FlowFrame& f) {
+  return f.pyramid.empty() ? cv::_InputArray(f.gray) : cv::_InputArray(f.pyramid);
+}
+
+bool Inside(cv::Point2f p, const cv::Size& size, double margin) {
+  return p.x >= margin && p.y >= margin && p.x <= size.width - 1 - margin && p.y <= size.height - 1 - margin;
+}
+
+float Bilinear(const cv::Mat& image, float x, float y) {
+  const int x0 = static_cast<int>(x), y0 = static_cast<int>(y);
+  const float ax = x - static_cast<float>(x0), ay = y - static_cast<float>(y0);
+  const int x1 = std::min(x0 + 1, image.cols - 1), y1 = std::min(y0 + 1, image.rows - 1);
+  const uchar* r0 = image.ptr<uchar>(y0);
+  const uchar* r1 = image.ptr<uchar>(y1);
+  return (1 - ay) * ((1 - ax) * r0[x0] + ax * r0[x1]) + ay * ((1 - ax) * r1[x0] + ax * r1[x1]);
+}
+
+}  // namespace
+
+std::vector<cv::Mat> BuildFlowPyramid(const cv::Mat& gray, const DynamicConfig& config) {
+  std::vector<cv::Mat> pyramid;
+  cv::buildOpticalFlowPyramid(gray, pyramid, Window(config), config.lk_levels, true);
+  return pyramid;
+}
+
+double PatchDifference(const cv::Mat& image_a, cv::Point2f a, const cv::Mat& image_b, cv::Point2f b, int radius) {
+  const int side = 2 * radius + 1;
+  std::vector<float> diff;
+  diff.reserve(side * side);
+  double mean = 0;
+  for (int dy = -radius; dy <= radius; ++dy) {
+    for (int dx = -radius; dx <= radius; ++dx) {
+      const auto fx = static_cast<float>(dx), fy = static_cast<float>(dy);
+      diff.push_back(Bilinear(image_a, a.x + fx, a.y + fy) - Bilinear(image_b, b.x + fx, b.y + fy));
+      mean += diff.back();
+    }
+  }
+  // Zero-mean: an exposure change between the frames shifts every pixel alike and
+  // says nothing about whether the pair is the same surface.
+  mean /= static_cast<double>(diff.size());
+  double sum = 0;
+  for (float d : diff) sum += std::abs(d - mean);
+  return sum / static_cast<double>(diff.size());
+}
+
+FlowPairs TrackBackward(const FlowFrame& prev, const FlowFrame& cur, const std::vector<cv::Point2f>& cur_points,
+                        const DynamicConfig& config) {
+  FlowPairs out;
+  const size_t n = cur_points.size();
+  out.status.assign(n, PairStatus::kFlowFailed);
+  if (n == 0) return out;
+  std::vector<uchar> ok;
+  std::vector<float> err;
+  const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, config.lk_iterations, config.lk_epsilon);
+  // Line 1: P1 = CalcOpticalFlowPyrLK(F2, F1, P2), current -> previous.
+  cv::calcOpticalFlowPyrLK(LkInput(cur), LkInput(prev), cur_points, out.prev, ok, err, Window(config), config.lk_levels,
+                           stop);
+  // Line 2: drop failed flow, border pairs and pairs that changed appearance. The
+  // margin also keeps the appearance patches inside both images.
+  const double margin = std::max(config.border, static_cast<double>(config.patch_radius) + 1.0);
+  const cv::Size size = cur.gray.size();
+  for (size_t i = 0; i < n; ++i) {
+    PairStatus& s = out.status[i];
+    if (!ok[i] || !std::isfinite(out.prev[i].x) || !std::isfinite(out.prev[i].y) ||
+        (config.lk_max_error > 0 && err[i] > config.lk_max_error)) {
+      s = PairStatus::kFlowFailed;
+    } else if (!Inside(cur_points[i], size, margin) || !Inside(out.prev[i], size, margin)) {
+      s = PairStatus::kBorder;
+    } else if (PatchDifference(cur.gray, cur_points[i], prev.gray, out.prev[i], config.patch_radius) >
+               config.max_patch_difference) {
+      s = PairStatus::kAppearance;
+    } else {
+      s = PairStatus::kOk;
+      ++out.valid;
+    }
+  }
+  return out;
+}
+
+}  // namespace sgslam::dynamic

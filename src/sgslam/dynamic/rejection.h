@@ -1,0 +1,91 @@
+// The paper's Algorithm 1 (dynamic feature rejection) and its ablation modes
+// (Sec. IV-C): which current keypoints are static enough to track with.
+//   sg         inside a dynamic box of weight w: kept when d * w < eps_std (line 6),
+//              elsewhere when d < eps_std (line 10)
+//   geometric  d < eps_std for every keypoint
+//   semantic   every keypoint inside a dynamic box is rejected
+//   none       all kept
+// Keypoints without a valid flow pair or F cannot be judged geometrically: in sg a
+// keypoint inside a dynamic box is rejected (semantics is the only evidence),
+// elsewhere kept, as in geometric mode (reject_unmatched = true gives the paper's
+// literal rule, where only matched pairs can enter S).
+// Fallback (release: restore every keypoint when < 10 % survive, person present):
+// when fewer than min_kept_ratio of the keypoints are kept, eps_std is relaxed by
+// relax_factor up to relax_steps times; if still too few, the rejected keypoints
+// with the smallest d * w are restored up to the minimum. The most dynamic-looking
+// points therefore never come back, unlike the release. Semantic mode has no d and
+// falls back to restoring all, as the release does.
+// F is fitted on the pairs whose current keypoint lies outside every dynamic box of
+// the current frame's detections (the release tests the previous point against the
+// previous frame's boxes). With config.depth_check and a DepthCheckInput, pairs the
+// RGB-D check flags are rejected in geometric and sg modes whatever their w (the
+// check has its own noise model), and the fallback restores them last.
+// Thread safety: a free function on const inputs; deterministic for equal inputs.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "sgslam/detection/detection.h"
+#include "sgslam/dynamic/depth_check.h"
+#include "sgslam/dynamic/dynamic_config.h"
+#include "sgslam/dynamic/epipolar.h"
+#include "sgslam/dynamic/flow.h"
+#include "sgslam/dynamic/regions.h"
+
+namespace sgslam::dynamic {
+
+enum class Mode : std::uint8_t { kNone, kSemantic, kGeometric, kSg };
+Mode ParseMode(const std::string& name);  // throws ConfigError for an unknown name
+
+enum class Why : std::uint8_t {
+  kStatic,     // kept: passed the test of its mode
+  kUnjudged,   // kept: no valid pair or no F, outside dynamic boxes
+  kFallback,   // kept: restored by the fallback
+  kGeometry,   // rejected: d * w >= eps (Algorithm 1 lines 6, 10)
+  kSemantics,  // rejected: inside a dynamic box with no geometric evidence (semantic mode, or no pair)
+  kDepth,      // rejected: RGB-D check (depth_check.h)
+  kUnmatched,  // rejected: no valid pair and reject_unmatched
+};
+
+struct KeypointVerdict {
+  bool kept = true;
+  Why why = Why::kStatic;
+  double distance = std::nan("");  // px, eq. (4); NaN without a valid pair and F
+  double weight = 1.0;             // largest w of the dynamic boxes holding the keypoint; 1 outside
+  PairStatus pair = PairStatus::kFlowFailed;
+  cv::Point2f prev;  // px, flow position in the previous image (pair == kOk)
+};
+
+struct RejectionTiming {  // ms
+  double flow = 0, fundamental = 0, depth = 0, decide = 0, total = 0;
+};
+
+struct RejectionResult {
+  std::vector<KeypointVerdict> keypoints;  // one per input keypoint, same order
+  int kept = 0, rejected_geometry = 0, rejected_semantics = 0, rejected_depth = 0, rejected_unmatched = 0;
+  int in_dynamic_boxes = 0;  // keypoints with w > 1
+  int valid_pairs = 0;       // flow pairs that passed line 2
+  std::optional<FundamentalEstimate> fundamental;
+  double eps_used = 0;  // px, eps_std after fallback relaxation
+  int relax_steps = 0;  // fallback relaxation steps taken
+  int restored = 0;     // keypoints kept by the fallback ranking (or by restore-all)
+  RejectionTiming ms;
+};
+
+// depth: the RGB-D check's inputs, used when config.depth_check (null: skipped).
+RejectionResult RejectDynamicFeatures(const FlowFrame& prev, const FlowFrame& cur,
+                                      const std::vector<cv::KeyPoint>& keys, const std::vector<Detection>& detections,
+                                      const WeightFn& weight, const DynamicConfig& config,
+                                      const DepthCheckInput* depth = nullptr);
+
+inline RejectionResult RejectDynamicFeatures(const cv::Mat& prev_gray, const cv::Mat& cur_gray,
+                                             const std::vector<cv::KeyPoint>& keys,
+                                             const std::vector<Detection>& detections, const WeightFn& weight,
+                                             const DynamicConfig& config) {
+  return RejectDynamicFeatures(FlowFrame{prev_gray, {}}, FlowFrame{cur_gray, {}}, keys, detections, weight, config);
+}
+
+}  // namespace sgslam::dynamic

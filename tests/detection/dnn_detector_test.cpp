@@ -1,0 +1,152 @@
+// Needs the Yolo-Fastest folder ($SGSLAM_MODEL_DIR or ../shared/models/yolo-fastest-1.1-coco)
+// and, for the photo tests, /usr/share/darknet/data/person.jpg (Debian package darknet).
+#include "sgslam/detection/dnn_detector.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <opencv2/imgcodecs.hpp>
+#include <optional>
+
+#include "sgslam/common/error.h"
+#include "support/test_support.h"
+
+namespace sgslam {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kPhoto = "/usr/share/darknet/data/person.jpg";
+
+std::optional<fs::path> ModelDir() {
+  if (const char* env = std::getenv("SGSLAM_MODEL_DIR"); env && *env && fs::is_directory(env)) return fs::path(env);
+  return test::SharedPath("models/yolo-fastest-1.1-coco");
+}
+
+#define REQUIRE_MODEL(var)                                                                             \
+  const auto var##_opt = ModelDir();                                                                   \
+  if (!var##_opt) GTEST_SKIP() << "model folder not found: set SGSLAM_MODEL_DIR or SGSLAM_SHARED_DIR"; \
+  const fs::path var = *var##_opt
+
+#define REQUIRE_PHOTO(var)                                                                                          \
+  if (!fs::exists(kPhoto)) GTEST_SKIP() << kPhoto << " not found: apt-get install --no-install-recommends darknet"; \
+  const cv::Mat var = cv::imread(kPhoto.string());                                                                  \
+  ASSERT_FALSE(var.empty())
+
+DetectorConfig ConfigFor(const fs::path& dir, const std::string& model = "yolo-fastest-1.1") {
+  DetectorConfig c;
+  c.model_dir = dir.string();
+  c.model = model;
+  return c;
+}
+
+// Expects an InputError whose message contains `needle`.
+template <class F>
+void ExpectInputErrorNaming(F&& make, const std::string& needle) {
+  try {
+    make();
+    ADD_FAILURE() << "no InputError; expected one naming " << needle;
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
+  }
+}
+
+void ExpectPersonAsInPhoto(const std::vector<Detection>& detections) {
+  // person.jpg (640x424): a man stands at x ~ 190..280, y ~ 95..380 beside a horse and a dog.
+  const Detection* person = nullptr;
+  for (const auto& d : detections) {
+    if (d.class_id == 0 && (!person || d.score > person->score)) person = &d;
+  }
+  ASSERT_NE(person, nullptr) << "no person found";
+  EXPECT_EQ(person->class_name, "person");
+  EXPECT_GT(person->score, 0.5f);
+  const cv::Point2f c = (person->box.tl() + person->box.br()) * 0.5f;
+  EXPECT_NEAR(c.x, 230, 40);
+  EXPECT_NEAR(c.y, 235, 50);
+  EXPECT_NEAR(person->box.height, 280, 70);
+  EXPECT_NEAR(person->box.width, 95, 45);
+  for (const auto& d : detections) {
+    EXPECT_GE(d.box.x, 0.f);
+    EXPECT_GE(d.box.y, 0.f);
+    EXPECT_LE(d.box.x + d.box.width, 640.f + 1e-3f);
+    EXPECT_LE(d.box.y + d.box.height, 424.f + 1e-3f);
+  }
+}
+
+TEST(DnnDetector, FindsThePersonInARealPhoto) {
+  REQUIRE_MODEL(dir);
+  REQUIRE_PHOTO(photo);
+  for (const char* model : {"yolo-fastest-1.1", "yolo-fastest-1.1-xl"}) {
+    SCOPED_TRACE(model);
+    DnnDetector detector(ConfigFor(dir, model));
+    const auto detections = detector.Detect(photo, 0);
+    ExpectPersonAsInPhoto(detections);
+    const auto again = detector.Detect(photo, 0);  // deterministic
+    ASSERT_EQ(again.size(), detections.size());
+    for (std::size_t i = 0; i < again.size(); ++i) EXPECT_EQ(again[i].box, detections[i].box);
+    EXPECT_NE(detector.Describe().find(model), std::string::npos);
+  }
+}
+
+// OpenCV's [yolo] layer drops class scores <= 0.2 unless the cfg says otherwise.
+TEST(DnnDetector, KeepsScoresBelowTheLayerDefault) {
+  REQUIRE_MODEL(dir);
+  REQUIRE_PHOTO(photo);
+  auto config = ConfigFor(dir);
+  config.score_threshold = config.person_score_threshold = 0.05;
+  DnnDetector detector(config);
+  const auto detections = detector.Detect(photo, 0);
+  bool low = false;
+  for (const auto& d : detections) {
+    EXPECT_GE(d.score, 0.05f);
+    low = low || d.score < 0.2f;
+  }
+  EXPECT_TRUE(low) << "no detection scored in [0.05, 0.2)";
+}
+
+TEST(DnnDetector, MissingOrBrokenFilesAreNamed) {
+  REQUIRE_MODEL(dir);
+  test::TempDir tmp;
+  ExpectInputErrorNaming([&] { DnnDetector d(ConfigFor(tmp / "absent")); }, (tmp / "absent").string());
+  ExpectInputErrorNaming([&] { DnnDetector d(ConfigFor(tmp.path())); }, (tmp / "yolo-fastest-1.1.cfg").string());
+  for (const char* f : {"yolo-fastest-1.1.cfg", "yolo-fastest-1.1.weights", "coco.names", "yolo-fastest-1.1-xl.cfg"}) {
+    fs::copy_file(dir / f, tmp / f);
+  }
+  // Garbage weights: OpenCV rejects them.
+  test::WriteText(tmp / "yolo-fastest-1.1.weights", "garbage garbage garbage garbage");
+  ExpectInputErrorNaming([&] { DnnDetector d(ConfigFor(tmp.path())); }, (tmp / "yolo-fastest-1.1.weights").string());
+  // Truncated weights, and another model's weights: OpenCV accepts both, the size check does not.
+  const auto weights_size = fs::file_size(dir / "yolo-fastest-1.1.weights");
+  fs::copy_file(dir / "yolo-fastest-1.1.weights", tmp / "yolo-fastest-1.1.weights",
+                fs::copy_options::overwrite_existing);
+  fs::resize_file(tmp / "yolo-fastest-1.1.weights", weights_size / 2);
+  ExpectInputErrorNaming([&] { DnnDetector d(ConfigFor(tmp.path())); }, (tmp / "yolo-fastest-1.1.weights").string());
+  fs::copy_file(dir / "yolo-fastest-1.1.weights", tmp / "yolo-fastest-1.1-xl.weights");
+  ExpectInputErrorNaming([&] { DnnDetector d(ConfigFor(tmp.path(), "yolo-fastest-1.1-xl")); },
+                         (tmp / "yolo-fastest-1.1-xl.weights").string());
+  // Garbage cfg.
+  fs::copy_file(dir / "yolo-fastest-1.1.weights", tmp / "yolo-fastest-1.1.weights",
+                fs::copy_options::overwrite_existing);
+  test::WriteText(tmp / "yolo-fastest-1.1.cfg", "\x01\x02 this is no cfg\n[[[\n");
+  ExpectInputErrorNaming([&] { DnnDetector d(ConfigFor(tmp.path())); }, (tmp / "yolo-fastest-1.1.cfg").string());
+  // A cfg OpenCV cannot parse although it looks like one.
+  test::WriteText(tmp / "yolo-fastest-1.1.cfg", "[net]\nwidth=320\n[frobnicate]\nsize=3\n[yolo]\nclasses=80\n");
+  ExpectInputErrorNaming([&] { DnnDetector d(ConfigFor(tmp.path())); }, (tmp / "yolo-fastest-1.1.cfg").string());
+  // A names file that does not fit the cfg.
+  fs::copy_file(dir / "yolo-fastest-1.1.cfg", tmp / "yolo-fastest-1.1.cfg", fs::copy_options::overwrite_existing);
+  test::WriteText(tmp / "coco.names", "person\ncar\n");
+  ExpectInputErrorNaming([&] { DnnDetector d(ConfigFor(tmp.path())); }, (tmp / "coco.names").string());
+}
+
+TEST(DnnDetector, NoFolderConfiguredSaysHowToSetOne) {
+  const char* old = std::getenv("SGSLAM_MODEL_DIR");
+  const std::optional<std::string> saved = old ? std::optional<std::string>(old) : std::nullopt;
+  unsetenv("SGSLAM_MODEL_DIR");
+  ExpectInputErrorNaming([&] { DnnDetector d{DetectorConfig{}}; }, "SGSLAM_MODEL_DIR");
+  ExpectInputErrorNaming([&] { DnnDetector d{DetectorConfig{}}; }, "model_dir");
+  if (saved) setenv("SGSLAM_MODEL_DIR", saved->c_str(), 1);
+}
+
+}  // namespace
+}  // namespace sgslam

@@ -1,0 +1,95 @@
+// The RGB-D motion check: a previous point lifted with its depth, moved by the
+// camera motion, compared with the current depth and keypoint.
+#include <gtest/gtest.h>
+
+#include "sgslam/dynamic/depth_check.h"
+
+namespace sgslam::dynamic {
+namespace {
+
+constexpr double kFx = 525, kCx = 319.5, kCy = 239.5;
+
+struct Scene {
+  DepthCheckInput in;
+  std::vector<cv::Point2f> prev, cur;
+};
+
+// A fronto-parallel wall at 2.5 m seen before and after a 2 cm sideways step, and
+// three points on it: static, moved sideways 5 cm, moved 15 cm towards the camera.
+Scene Make(int depth_type) {
+  Scene s;
+  s.in.K = {kFx, kFx, kCx, kCy};
+  Vector6d xi;
+  xi << -0.02, 0, 0, 0, 0, 0;
+  s.in.T_cur_prev = SE3::Exp(xi);  // the camera moved +2 cm along x
+  const double wall = 2.5;
+  auto image = [&](double z) {
+    cv::Mat m(480, 640, CV_32F, cv::Scalar(z));
+    if (depth_type == CV_32F) return m;
+    cv::Mat raw;
+    m.convertTo(raw, CV_16U, s.in.depth_factor);
+    return raw;
+  };
+  s.in.prev_depth = image(wall);
+  s.in.cur_depth = image(wall);
+  auto project = [&](const Eigen::Vector3d& X) {
+    return cv::Point2f(static_cast<float>(kFx * X.x() / X.z() + kCx), static_cast<float>(kFx * X.y() / X.z() + kCy));
+  };
+  const Eigen::Vector3d P[3] = {{-0.5, 0.1, wall}, {0.2, -0.2, wall}, {0.6, 0.3, wall}};
+  const Eigen::Vector3d motion[3] = {{0, 0, 0}, {0.05, 0, 0}, {0, 0, -0.15}};
+  for (int i = 0; i < 3; ++i) {
+    s.prev.push_back(project(P[i]));
+    s.cur.push_back(project(s.in.T_cur_prev * (P[i] + motion[i])));
+  }
+  // The point that came closer is seen at its new depth in the current frame.
+  const cv::Point c = s.cur[2];
+  cv::Mat roi = s.in.cur_depth(cv::Rect(c.x - 3, c.y - 3, 7, 7));
+  if (depth_type == CV_32F)
+    roi.setTo(wall - 0.15);
+  else
+    roi.setTo(cvRound((wall - 0.15) * s.in.depth_factor));
+  return s;
+}
+
+TEST(DepthCheck, FlagsSidewaysAndDepthMotionAndKeepsStaticPoints) {
+  for (int type : {CV_32F, CV_16U}) {
+    const Scene s = Make(type);
+    const DynamicConfig c;
+    const std::vector<DepthResidual> r = CheckDepth(s.prev, s.cur, {true, true, true}, s.in, c);
+    ASSERT_EQ(r.size(), 3u);
+    for (const DepthResidual& x : r) EXPECT_TRUE(x.valid);
+    EXPECT_FALSE(r[0].moved);
+    EXPECT_LT(r[0].reprojection_error, 0.01);
+    EXPECT_LT(r[0].depth_error, 1e-3);
+    EXPECT_TRUE(r[1].moved);  // 5 cm sideways at 2.5 m: 10.5 px, no depth change
+    EXPECT_NEAR(r[1].reprojection_error, kFx * 0.05 / 2.5, 0.1);
+    EXPECT_LT(r[1].depth_error, 1e-3);
+    EXPECT_TRUE(r[2].moved);  // 15 cm closer
+    EXPECT_NEAR(r[2].depth_error, 0.15, 1e-3);
+  }
+}
+
+TEST(DepthCheck, SkipsMissingDepthAndUnusedPairs) {
+  Scene s = Make(CV_32F);
+  s.in.prev_depth.at<float>(cvRound(s.prev[0].y), cvRound(s.prev[0].x)) = 0;
+  const std::vector<DepthResidual> r = CheckDepth(s.prev, s.cur, {true, false, true}, s.in, DynamicConfig{});
+  EXPECT_FALSE(r[0].valid);
+  EXPECT_FALSE(r[1].valid);
+  EXPECT_TRUE(r[2].valid && r[2].moved);
+}
+
+TEST(DepthCheck, UndistortFunctionIsAppliedToBothPoints) {
+  Scene s = Make(CV_32F);
+  // Points given shifted by +5 px, undistort removes the shift: same verdicts.
+  for (auto* v : {&s.prev, &s.cur}) {
+    for (cv::Point2f& p : *v) p.x += 5;
+  }
+  s.in.undistort = [](const Eigen::Vector2d& p) { return Eigen::Vector2d(p.x() - 5, p.y()); };
+  const std::vector<DepthResidual> r = CheckDepth(s.prev, s.cur, {true, true, true}, s.in, DynamicConfig{});
+  EXPECT_FALSE(r[0].moved);
+  EXPECT_LT(r[0].reprojection_error, 0.01);
+  EXPECT_TRUE(r[1].moved);
+}
+
+}  // namespace
+}  // namespace sgslam::dynamic

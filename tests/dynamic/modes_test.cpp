@@ -1,0 +1,123 @@
+// The decision rules around Algorithm 1: regions and weights, keypoints without a
+// pair, the fallback, determinism, prebuilt pyramids and the config checks.
+#include <gtest/gtest.h>
+
+#include "dynamic/dynamic_test_scene.h"
+#include "sgslam/common/error.h"
+
+namespace sgslam::dynamic {
+namespace {
+
+Detection Box(const std::string& name, float x, float y, float w, float h) { return {0, name, 1.f, {x, y, w, h}}; }
+
+double Weight(const std::string& name) { return name == "person" ? 5 : name == "chair" ? 2 : 1; }
+
+struct Fixture {
+  test::FramePair pair = test::MakePair("walkers", 60);
+  std::vector<cv::KeyPoint> keys = test::DetectKeypoints(pair.cur_gray);
+};
+const Fixture& Data() {
+  static const Fixture f;
+  return f;
+}
+
+TEST(Modes, LargestWeightOfTheBoxesHoldingAKeypointCounts) {
+  const std::vector<cv::KeyPoint> keys = {{10, 10, 7}, {50, 50, 7}, {150, 150, 7}, {300, 300, 7}, {100, 100, 7}};
+  const std::vector<Detection> dets = {Box("chair", 0, 0, 100, 100), Box("person", 40, 40, 100, 100),
+                                       Box("tv", 250, 250, 100, 100)};
+  EXPECT_EQ(KeypointWeights(keys, dets, Weight), (std::vector<double>{2, 5, 1, 1, 5}));
+  EXPECT_EQ(KeypointWeights(keys, dets, {}), std::vector<double>(5, 1.0));
+}
+
+TEST(Modes, KeypointsWithoutAPairAreRejectedOnlyInsideDynamicBoxes) {
+  const Fixture& f = Data();
+  std::vector<cv::KeyPoint> keys = f.keys;
+  keys.emplace_back(2.f, 100.f, 7.f);  // on the border: no pair
+  keys.emplace_back(2.f, 300.f, 7.f);
+  const std::vector<Detection> dets = {Box("person", 0, 280, 40, 40)};
+  DynamicConfig c;
+  RejectionResult r = RejectDynamicFeatures(f.pair.prev_gray, f.pair.cur_gray, keys, dets, Weight, c);
+  const KeypointVerdict &outside = r.keypoints[keys.size() - 2], &inside = r.keypoints[keys.size() - 1];
+  EXPECT_EQ(outside.pair, PairStatus::kBorder);
+  EXPECT_TRUE(std::isnan(outside.distance));
+  EXPECT_TRUE(outside.kept);
+  EXPECT_EQ(outside.why, Why::kUnjudged);
+  EXPECT_FALSE(inside.kept);
+  EXPECT_EQ(inside.why, Why::kSemantics);
+  c.reject_unmatched = true;  // the paper's literal Algorithm 1
+  r = RejectDynamicFeatures(f.pair.prev_gray, f.pair.cur_gray, keys, dets, Weight, c);
+  EXPECT_EQ(r.keypoints[keys.size() - 2].why, Why::kUnmatched);
+}
+
+TEST(Modes, FallbackRelaxesThenRestoresTheMostStaticLooking) {
+  const Fixture& f = Data();
+  const std::vector<Detection> everywhere = {Box("person", 0, 0, 640, 480)};
+  DynamicConfig c;
+  c.min_kept_ratio = 0.9;
+  RejectionResult r = RejectDynamicFeatures(f.pair.prev_gray, f.pair.cur_gray, f.keys, everywhere, Weight, c);
+  const int min_kept = static_cast<int>(std::ceil(0.9 * static_cast<double>(f.keys.size())));
+  EXPECT_GE(r.relax_steps, 1);
+  EXPECT_DOUBLE_EQ(r.eps_used, c.eps_std * std::pow(c.relax_factor, r.relax_steps));
+  EXPECT_GE(r.kept, min_kept);
+  // No relaxation: the restored keypoints are those with the smallest d * w.
+  c.relax_steps = 0;
+  c.min_kept_ratio = 0.5;
+  r = RejectDynamicFeatures(f.pair.prev_gray, f.pair.cur_gray, f.keys, everywhere, Weight, c);
+  EXPECT_GT(r.restored, 0);
+  EXPECT_EQ(r.kept, static_cast<int>(std::ceil(0.5 * static_cast<double>(f.keys.size()))));
+  double worst_kept = 0, best_rejected = 1e9;
+  for (const KeypointVerdict& v : r.keypoints) {
+    if (std::isnan(v.distance)) continue;
+    if (v.kept)
+      worst_kept = std::max(worst_kept, v.distance);
+    else
+      best_rejected = std::min(best_rejected, v.distance);
+  }
+  EXPECT_LE(worst_kept, best_rejected);
+  // Semantic mode has no distance to rank by: it restores all, like the release.
+  c.mode = "semantic";
+  r = RejectDynamicFeatures(f.pair.prev_gray, f.pair.cur_gray, f.keys, everywhere, Weight, c);
+  EXPECT_EQ(r.kept, static_cast<int>(f.keys.size()));
+  EXPECT_EQ(r.restored, static_cast<int>(f.keys.size()));
+}
+
+TEST(Modes, TwoRunsAreIdenticalAndPyramidsChangeNothing) {
+  const Fixture& f = Data();
+  const DynamicConfig c;
+  const auto a = RejectDynamicFeatures(f.pair.prev_gray, f.pair.cur_gray, f.keys, f.pair.detections, Weight, c);
+  const auto b = RejectDynamicFeatures(f.pair.prev_gray, f.pair.cur_gray, f.keys, f.pair.detections, Weight, c);
+  const auto p = RejectDynamicFeatures(FlowFrame{f.pair.prev_gray, BuildFlowPyramid(f.pair.prev_gray, c)},
+                                       FlowFrame{f.pair.cur_gray, BuildFlowPyramid(f.pair.cur_gray, c)}, f.keys,
+                                       f.pair.detections, Weight, c);
+  ASSERT_TRUE(a.fundamental && b.fundamental && p.fundamental);
+  EXPECT_EQ(a.fundamental->F_cur_prev, b.fundamental->F_cur_prev);
+  int same_as_pyramid = 0;
+  for (size_t i = 0; i < f.keys.size(); ++i) {
+    EXPECT_EQ(a.keypoints[i].kept, b.keypoints[i].kept);
+    EXPECT_EQ(a.keypoints[i].why, b.keypoints[i].why);
+    EXPECT_TRUE(a.keypoints[i].distance == b.keypoints[i].distance ||
+                (std::isnan(a.keypoints[i].distance) && std::isnan(b.keypoints[i].distance)));
+    same_as_pyramid += a.keypoints[i].kept == p.keypoints[i].kept;
+  }
+  EXPECT_GE(same_as_pyramid, static_cast<int>(f.keys.size()) - 2);
+  EXPECT_EQ(a.kept + a.rejected_geometry + a.rejected_semantics, static_cast<int>(f.keys.size()));
+}
+
+TEST(Modes, ConfigChecksAndModeNames) {
+  ConfigChecker ok("dynamic");
+  DynamicConfig{}.Validate(ok);
+  EXPECT_TRUE(ok.problems().empty());
+  DynamicConfig bad;
+  bad.mode = "semantics";
+  bad.lk_window = 20;
+  bad.min_static_pairs = 10;
+  ConfigChecker c("dynamic");
+  bad.Validate(c);
+  ASSERT_EQ(c.problems().size(), 3u);
+  EXPECT_NE(c.problems()[0].find("dynamic.mode = semantics"), std::string::npos);
+  EXPECT_THROW(ParseMode("semantics"), ConfigError);
+  EXPECT_EQ(ParseMode("sg"), Mode::kSg);
+}
+
+}  // namespace
+}  // namespace sgslam::dynamic
