@@ -130,9 +130,21 @@ RunSummary RunSequence(const RunOptions& o) {
                                          {"frame", s.median_frame_ms}}},
                           {"fps", s.fps},
                           {"peak_rss_mib", s.peak_rss_mib}};
-  std::vector<double> mapping_ms;
-  for (const auto& m : system.mapping_stats()) mapping_ms.push_back(m.ms);
-  stats["median_ms"]["local_mapping_per_keyframe"] = Median(mapping_ms);
+  const auto mapping = system.mapping_stats();
+  const auto mapping_median = [&](auto field) {
+    std::vector<double> v;
+    for (const auto& m : mapping) v.push_back(static_cast<double>(m.*field));
+    return Median(std::move(v));
+  };
+  stats["local_mapping"] = {{"keyframes_processed", mapping.size()},
+                            {"median_ms", mapping_median(&MappingStats::ms)},
+                            {"median_insert_ms", mapping_median(&MappingStats::insert_ms)},
+                            {"median_triangulate_ms", mapping_median(&MappingStats::triangulate_ms)},
+                            {"median_fuse_ms", mapping_median(&MappingStats::fuse_ms)},
+                            {"median_ba_ms", mapping_median(&MappingStats::ba_ms)},
+                            {"median_cull_ms", mapping_median(&MappingStats::cull_ms)},
+                            {"median_ba_keyframes", mapping_median(&MappingStats::local_keyframes)},
+                            {"median_ba_points", mapping_median(&MappingStats::local_points)}};
   if (const auto gt_path = dataset.groundtruth_path(); gt_path && trajectory.size() >= 3) {
     try {
       const auto ate = eval::ComputeAte(ReadTumTrajectory(*gt_path), trajectory, FromSeconds(0.02));

@@ -12,7 +12,7 @@
 namespace sgslam {
 
 bool LocalMapper::LocalBundleAdjustment(const std::shared_ptr<KeyFrame>& kf,
-                                        const std::function<bool()>& interrupted) {
+                                        const std::function<bool()>& interrupted, MappingStats& stats) {
   optim::BaProblem problem;
   std::vector<std::shared_ptr<KeyFrame>> keyframes;
   std::vector<std::shared_ptr<MapPoint>> points;
@@ -55,6 +55,8 @@ bool LocalMapper::LocalBundleAdjustment(const std::shared_ptr<KeyFrame>& kf,
       }
     }
   }
+  stats.local_keyframes = static_cast<int>(keyframes.size());
+  stats.local_points = static_cast<int>(points.size());
   optim::BaOptions options;
   options.first_iterations = config_.mapping.ba_first_iterations;
   options.second_iterations = config_.mapping.ba_second_iterations;

@@ -16,14 +16,24 @@ LocalMapper::LocalMapper(const Config& config, Map& map) : config_(config), map_
 MappingStats LocalMapper::Process(const std::shared_ptr<KeyFrame>& kf, const std::function<bool()>& interrupted) {
   Stopwatch watch;
   MappingStats stats;
+  Stopwatch step;
   InsertKeyFrame(kf);
   stats.culled_points = CullRecentPoints(kf);
+  stats.insert_ms = step.ElapsedMs();
+  step.Restart();
   stats.new_points = CreateNewMapPoints(kf);
+  stats.triangulate_ms = step.ElapsedMs();
+  step.Restart();
   if (!interrupted()) stats.fused = SearchInNeighbors(kf);
+  stats.fuse_ms = step.ElapsedMs();
   if (!interrupted()) {
+    step.Restart();
     stats.ba_done = true;
-    stats.ba_aborted = !LocalBundleAdjustment(kf, interrupted);
+    stats.ba_aborted = !LocalBundleAdjustment(kf, interrupted, stats);
+    stats.ba_ms = step.ElapsedMs();
+    step.Restart();
     stats.culled_keyframes = CullKeyFrames(kf);
+    stats.cull_ms = step.ElapsedMs();
   }
   stats.ms = watch.ElapsedMs();
   return stats;

@@ -19,6 +19,8 @@ namespace sgslam {
 
 struct MappingStats {
   double ms = 0;
+  double insert_ms = 0, triangulate_ms = 0, fuse_ms = 0, ba_ms = 0, cull_ms = 0;
+  int local_keyframes = 0, local_points = 0;
   int new_points = 0;
   int fused = 0;
   int culled_points = 0;
@@ -39,7 +41,8 @@ class LocalMapper {
   int CullRecentPoints(const std::shared_ptr<KeyFrame>& kf);
   int CreateNewMapPoints(const std::shared_ptr<KeyFrame>& kf);
   int SearchInNeighbors(const std::shared_ptr<KeyFrame>& kf);
-  bool LocalBundleAdjustment(const std::shared_ptr<KeyFrame>& kf, const std::function<bool()>& interrupted);
+  bool LocalBundleAdjustment(const std::shared_ptr<KeyFrame>& kf, const std::function<bool()>& interrupted,
+                             MappingStats& stats);
   int CullKeyFrames(const std::shared_ptr<KeyFrame>& kf);
 
   const Config config_;
