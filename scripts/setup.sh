@@ -10,6 +10,7 @@ PACKAGES=(
   libeigen3-dev libopencv-dev libceres-dev liboctomap-dev
   libyaml-cpp-dev libcli11-dev libspdlog-dev nlohmann-json3-dev
   libgtest-dev libbenchmark-dev
+  darknet  # only for /usr/share/darknet/data/person.jpg, the detector test's real image
 )
 
 build=1
