@@ -11,13 +11,14 @@
 #include "sgslam/common/time.h"
 #include "sgslam/eval/evaluate.h"
 #include "sgslam/eval/plot.h"
+#include "sgslam/io/text_file.h"
 
 namespace sgslam::app {
 
 namespace {
 
 struct EvalArgs {
-  std::string gt, est, plot;
+  std::string gt, est, plot, errors;
   double max_diff_s = 0.02;
   double delta_s = 1.0;
   bool json = false;
@@ -34,6 +35,17 @@ int RunEval(const EvalArgs& a) {
   if (!a.plot.empty()) {
     eval::WriteAtePlot(a.plot, report.gt, report.est, report.ate);
     spdlog::info("wrote {}", a.plot);
+  }
+  if (!a.errors.empty()) {
+    // One line per associated pose: estimate time and its aligned position error,
+    // to see where along a sequence the error grows.
+    std::string text = "# timestamp ate_error_m\n";
+    for (std::size_t k = 0; k < report.ate.pairs.size(); ++k) {
+      text += FormatTimestamp(report.est[report.ate.pairs[k].second].t) + " " +
+              std::to_string(report.ate.errors[k]) + "\n";
+    }
+    WriteFileAtomically(a.errors, text);
+    spdlog::info("wrote {}", a.errors);
   }
   const std::string out = a.json ? eval::ToJson(report).dump() + "\n" : eval::FormatTable(report);
   std::fwrite(out.data(), 1, out.size(), stdout);
@@ -55,6 +67,7 @@ Action AddEvalCommand(CLI::App& root) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   sub->add_option("--plot", args->plot, "Write a top-view ATE plot to this PNG file");
+  sub->add_option("--errors", args->errors, "Write the per-pose ATE error (timestamp, metres) to this text file");
   sub->add_flag("--json", args->json, "Print one JSON object on stdout instead of a table");
   return [args]() -> int { return RunEval(*args); };
 }

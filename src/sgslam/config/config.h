@@ -129,6 +129,10 @@ struct MappingConfig {
   int ba_second_iterations = 10;      // local BA, after removing outliers
   double redundant_ratio = 0.9;       // a keyframe is culled when this share of its points is seen thrice elsewhere
   int queue_size = 3;                 // keyframes waiting for local mapping, beyond which tracking waits
+  // frames after a keyframe during which --sequential treats local mapping as
+  // busy: the thread is busy for about that long, and an always-idle mapper
+  // would take a keyframe on nearly every frame
+  int sequential_busy_frames = 5;
 
   template <class V>
   void Visit(V&& v) {
@@ -138,6 +142,7 @@ struct MappingConfig {
     v("ba_second_iterations", ba_second_iterations, "local BA iterations after outlier removal");
     v("redundant_ratio", redundant_ratio, "share of points seen elsewhere to cull a keyframe");
     v("queue_size", queue_size, "keyframes queued for local mapping");
+    v("sequential_busy_frames", sequential_busy_frames, "frames, mapping busy after a keyframe in --sequential");
   }
   void Validate(ConfigChecker& c) const;
 };

@@ -59,7 +59,9 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
   report.extract_ms = watch.ElapsedMs();
 
   watch.Restart();
-  const bool idle = sequential_ || (!mapping_busy_ && queue_.size() == 0);
+  const bool idle = sequential_ ? frame.id >= last_keyframe_frame_id_ +
+                                              static_cast<std::uint64_t>(config_.mapping.sequential_busy_frames)
+                                : (!mapping_busy_ && queue_.size() == 0);
   const TrackResult result = tracker_.Track(frame, idle, sequential_ ? 0 : queue_.size());
   report.state = result.state;
   report.matches = result.matches;
@@ -71,6 +73,7 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
   }
   if (result.new_keyframe) {
     report.keyframe = true;
+    last_keyframe_frame_id_ = frame.id;
     if (sequential_) {
       std::lock_guard lock(stats_mutex_);
       mapping_stats_.push_back(mapper_.Process(result.new_keyframe, [] { return false; }));

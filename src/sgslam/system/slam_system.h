@@ -71,6 +71,7 @@ class SlamSystem {
   };
   std::vector<PoseRecord> records_;
   std::uint64_t next_frame_id_ = 0;
+  std::uint64_t last_keyframe_frame_id_ = 0;  // --sequential: emulates the mapping thread's busy time
 
   BoundedQueue<std::shared_ptr<KeyFrame>> queue_;
   std::atomic<bool> mapping_busy_{false};
