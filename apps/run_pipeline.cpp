@@ -12,10 +12,12 @@
 #include "sgslam/common/stats.h"
 #include "sgslam/config/yaml_io.h"
 #include "sgslam/eval/ate.h"
+#include "sgslam/eval/mask_score.h"
 #include "sgslam/io/frame_stream.h"
 #include "sgslam/io/ply.h"
 #include "sgslam/io/text_file.h"
 #include "sgslam/io/trajectory.h"
+#include "sgslam/detection/detector.h"
 #include "sgslam/system/run_config.h"
 #include "sgslam/system/slam_system.h"
 
@@ -50,6 +52,14 @@ nlohmann::json MedianOf(const std::vector<FrameReport>& reports, double FrameRep
 RunSummary RunSequence(const RunOptions& o) {
   const fs::path dataset_dir = o.dataset;
   RunConfig rc = ResolveRunConfig(o.config.empty() ? std::nullopt : std::optional<fs::path>(o.config), dataset_dir);
+  // Command-line options override the file; the result is validated again.
+  if (!o.mode.empty()) rc.config.dynamic.mode = o.mode;
+  if (!o.model.empty()) rc.config.detector.model_dir = o.model;
+  if (o.no_detector) rc.config.detector.backend = "none";
+  if (!o.mode.empty() || !o.model.empty() || o.no_detector) {
+    rc.source += " + command-line options";
+    rc.config.Validate(rc.source);
+  }
   const Config& config = rc.config;
   TumDataset dataset(dataset_dir, config.dataset);
   RunSummary s;
@@ -63,14 +73,18 @@ RunSummary RunSequence(const RunOptions& o) {
   const std::string yaml = "# effective configuration of this run (source: " + rc.source + ")\n" + ConfigToYaml(config);
   spdlog::debug("effective configuration:\n{}", yaml);
   WriteFileAtomically(s.out / "config_used.yaml", yaml);
-  if (o.mode != "none" && !o.no_detector) {
-    spdlog::warn("--mode {}: dynamic feature rejection and the detector are not built yet; running as --mode none",
-                 o.mode);
-  }
   if (o.viewer_port != 0) spdlog::warn("--viewer is not built yet; ignored");
 
-  SlamSystem system(config, o.sequential);
+  // The detector is loaded before any thread starts, so a missing or broken model
+  // is reported at once; only the modes that use boxes need one.
+  std::unique_ptr<Detector> detector;
+  const bool uses_boxes = config.dynamic.mode == "semantic" || config.dynamic.mode == "sg";
+  if (uses_boxes) detector = MakeDetector(config.detector, dataset_dir);
+  SlamSystem system(config, o.sequential, std::move(detector));
+  spdlog::info("mode {}, detector: {}", config.dynamic.mode, system.DescribeDetector());
   std::vector<FrameReport> reports;
+  const eval::MaskIndex masks(dataset_dir);  // ground-truth dynamic masks, when the sequence has them
+  eval::MaskScore truth;
   std::string failure;
   Stopwatch wall;
   {
@@ -81,6 +95,10 @@ RunSummary RunSequence(const RunOptions& o) {
       while (auto frame = stream.Next()) {
         if (reports.empty()) CheckDepthScale(*frame, dataset.frames()[frame->index], config.camera, config.dataset);
         reports.push_back(system.Process(*frame));
+        FrameReport& r = reports.back();
+        if (auto mask = masks.Load(r.t)) truth.Add(eval::ScoreKeypoints(*mask, r.keypoints, r.rejected));
+        r.keypoints = {};  // keep the per-frame record small
+        r.rejected = {};
         progress.Update(reports.size(), reports.size() / (wall.ElapsedMs() * 1e-3));
         if (g_interrupted) {
           spdlog::warn("interrupted: writing the outputs of the {} frames processed", reports.size());
@@ -96,11 +114,14 @@ RunSummary RunSequence(const RunOptions& o) {
   const double seconds = wall.ElapsedMs() * 1e-3;
 
   std::ostringstream csv;
-  csv << "index,timestamp,state,features,matches,inliers,keyframe,extract_ms,track_ms,total_ms\n";
+  csv << "index,timestamp,state,features,kept,rejected_geometry,rejected_semantics,rejected_depth,detections,"
+         "detector_late,matches,inliers,keyframe,extract_ms,detector_ms,wait_ms,reject_ms,track_ms,total_ms\n";
   for (const auto& r : reports) {
-    csv << r.index << ',' << FormatTimestamp(r.t) << ',' << ToString(r.state) << ',' << r.features << ','
-        << r.matches << ',' << r.inliers << ',' << (r.keyframe ? 1 : 0) << ',' << r.extract_ms << ',' << r.track_ms
-        << ',' << r.total_ms << '\n';
+    csv << r.index << ',' << FormatTimestamp(r.t) << ',' << ToString(r.state) << ',' << r.features << ',' << r.kept
+        << ',' << r.rejected_geometry << ',' << r.rejected_semantics << ',' << r.rejected_depth << ','
+        << r.detections << ',' << (r.detector_late ? 1 : 0) << ',' << r.matches << ',' << r.inliers << ','
+        << (r.keyframe ? 1 : 0) << ',' << r.extract_ms << ',' << r.detector_ms << ',' << r.wait_ms << ','
+        << r.reject_ms << ',' << r.track_ms << ',' << r.total_ms << '\n';
     s.tracked += r.state == TrackState::kOk;
     s.lost += r.state == TrackState::kLost;
   }
@@ -118,7 +139,7 @@ RunSummary RunSequence(const RunOptions& o) {
   s.fps = seconds > 0 ? s.frames / seconds : 0.0;
   s.peak_rss_mib = PeakRssMiB();
   nlohmann::json stats = {{"dataset", dataset.dir().string()},
-                          {"mode", "none"},
+                          {"mode", config.dynamic.mode},
                           {"sequential", o.sequential},
                           {"frames", s.frames},
                           {"tracked", s.tracked},
@@ -126,10 +147,44 @@ RunSummary RunSequence(const RunOptions& o) {
                           {"keyframes", s.keyframes},
                           {"map_points", s.map_points},
                           {"median_ms", {{"extract", MedianOf(reports, &FrameReport::extract_ms)},
+                                         {"detector", MedianOf(reports, &FrameReport::detector_ms)},
+                                         {"detector_wait", MedianOf(reports, &FrameReport::wait_ms)},
+                                         {"reject", MedianOf(reports, &FrameReport::reject_ms)},
                                          {"track", MedianOf(reports, &FrameReport::track_ms)},
                                          {"frame", s.median_frame_ms}}},
                           {"fps", s.fps},
                           {"peak_rss_mib", s.peak_rss_mib}};
+  {
+    std::size_t late = 0;
+    double rejected = 0, features = 0;
+    for (const auto& r : reports) {
+      late += r.detector_late ? 1 : 0;
+      rejected += r.features - r.kept;
+      features += r.features;
+    }
+    const DetectionWorkerStats d = system.detector_stats();
+    stats["dynamic"] = {{"rejected_share", features > 0 ? rejected / features : 0.0},
+                        {"detector", system.DescribeDetector()},
+                        {"detector_late_frames", late},
+                        {"detector_submitted", d.submitted},
+                        {"detector_processed", d.processed},
+                        {"detector_dropped", d.dropped},
+                        {"detector_errors", d.errors}};
+  }
+  if (truth.frames > 0) {
+    stats["dynamic"]["truth"] = {{"frames", truth.frames},
+                                 {"moving_keypoints", truth.moving},
+                                 {"moving_rejected", truth.moving_rejected},
+                                 {"recall", truth.recall()},
+                                 {"static_keypoints", truth.static_points},
+                                 {"static_rejected", truth.static_rejected},
+                                 {"static_loss", truth.static_loss()},
+                                 {"precision", truth.precision()}};
+    spdlog::info("dynamic rejection vs ground-truth masks ({} frames): {:.1f} % of {} moving keypoints rejected, "
+                 "{:.1f} % of {} static keypoints lost, precision {:.1f} %",
+                 truth.frames, 100 * truth.recall(), truth.moving, 100 * truth.static_loss(), truth.static_points,
+                 100 * truth.precision());
+  }
   const auto mapping = system.mapping_stats();
   const auto mapping_median = [&](auto field) {
     std::vector<double> v;

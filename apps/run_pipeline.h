@@ -10,7 +10,8 @@
 namespace sgslam::app {
 
 struct RunOptions {
-  std::string dataset, config, out, mode = "sg", model;
+  std::string dataset, config, out, model;
+  std::string mode;  // empty: the config's dynamic.mode (default sg)
   bool no_detector = false, sequential = false;
   std::size_t max_frames = 0;
   int viewer_port = 0;

@@ -7,6 +7,8 @@
 #include <string>
 
 #include "sgslam/config/checker.h"
+#include "sgslam/detection/detector_config.h"
+#include "sgslam/dynamic/dynamic_config.h"
 
 namespace sgslam {
 
@@ -153,6 +155,8 @@ struct Config {
   OrbConfig orb;
   TrackingConfig tracking;
   MappingConfig mapping;
+  DetectorConfig detector;
+  DynamicConfig dynamic;
 
   template <class V>
   void VisitSections(V&& v) {
@@ -161,6 +165,8 @@ struct Config {
     v("orb", orb);
     v("tracking", tracking);
     v("mapping", mapping);
+    v("detector", detector);
+    v("dynamic", dynamic);
   }
   template <class V>
   void VisitSections(V&& v) const {

@@ -95,7 +95,8 @@ fs::path ResolveModelDir(const std::string& model_dir) {
       throw InputError(
           "no detector model folder: set detector.model_dir in the config, pass --model DIR, or set the "
           "environment variable SGSLAM_MODEL_DIR (e.g. export "
-          "SGSLAM_MODEL_DIR=../shared/models/yolo-fastest-1.1-coco)");
+          "SGSLAM_MODEL_DIR=../shared/models/yolo-fastest-1.1-coco); or run geometry-only with --no-detector "
+          "or --mode geometric");
     }
     dir = env;
   }

@@ -1,6 +1,7 @@
 #include "sgslam/map/features.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 namespace sgslam {
 
@@ -15,7 +16,8 @@ ImageBounds UndistortedBounds(const Camera& camera) {
 
 std::shared_ptr<const Features> MakeFeatures(std::vector<cv::KeyPoint> keys, cv::Mat descriptors,
                                              const cv::Mat& depth_raw, std::shared_ptr<const Camera> camera,
-                                             std::shared_ptr<const ScaleLevels> scale) {
+                                             std::shared_ptr<const ScaleLevels> scale,
+                                             std::vector<std::uint8_t> dynamic, std::vector<Detection> detections) {
   auto f = std::make_shared<Features>();
   f->bounds = UndistortedBounds(*camera);
   f->keys = std::move(keys);
@@ -39,6 +41,9 @@ std::shared_ptr<const Features> MakeFeatures(std::vector<cv::KeyPoint> keys, cv:
     f->u_right[i] = static_cast<float>(f->keys_un[i].pt.x - camera->baseline_fx() / d);
   }
   f->grid = FeatureGrid(f->keys_un, f->bounds);
+  if (!dynamic.empty() && dynamic.size() != n) throw std::invalid_argument("MakeFeatures: one dynamic label per keypoint");
+  f->dynamic = std::move(dynamic);
+  f->detections = std::move(detections);
   f->camera = std::move(camera);
   f->scale = std::move(scale);
   return f;

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include "sgslam/camera/camera.h"
+#include "sgslam/detection/detection.h"
 #include "sgslam/map/feature_grid.h"
 #include "sgslam/features/pyramid.h"
 
@@ -27,6 +28,11 @@ struct Features {
   std::vector<float> u_right;         // px, u_r = u - bf / d (ORB-SLAM2 RGB-D); < 0: none
   cv::Mat descriptors;                // CV_8U, 32 bytes a row
   FeatureGrid grid;
+  // Dynamic feature rejection (paper Algorithm 1): 1 where the keypoint was judged
+  // moving (never tracked nor mapped); empty or all 0 in a static run. Keyframes
+  // keep it, with the frame's detections, for the semantic mapping thread.
+  std::vector<std::uint8_t> dynamic;
+  std::vector<Detection> detections;
 
   std::size_t size() const { return keys.size(); }
   const std::uint8_t* descriptor(std::size_t i) const { return descriptors.ptr<std::uint8_t>(static_cast<int>(i)); }
@@ -40,10 +46,13 @@ struct Features {
 };
 
 // Undistorts the keypoints, looks up their depth (raw depth image registered to
-// the distorted RGB image, as in TUM and Bonn), and builds the grid.
+// the distorted RGB image, as in TUM and Bonn), and builds the grid. dynamic: one
+// label per keypoint, or empty for none.
 std::shared_ptr<const Features> MakeFeatures(std::vector<cv::KeyPoint> keys, cv::Mat descriptors,
                                              const cv::Mat& depth_raw, std::shared_ptr<const Camera> camera,
-                                             std::shared_ptr<const ScaleLevels> scale);
+                                             std::shared_ptr<const ScaleLevels> scale,
+                                             std::vector<std::uint8_t> dynamic = {},
+                                             std::vector<Detection> detections = {});
 
 // Bounds of the undistorted image (corners undistorted).
 ImageBounds UndistortedBounds(const Camera& camera);

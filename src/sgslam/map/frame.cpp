@@ -11,7 +11,7 @@ Frame::Frame(std::uint64_t frame_id, Timestamp stamp, std::shared_ptr<const Feat
       gray(std::move(grey)),
       map_points(features->size()),
       outlier(features->size(), 0),
-      rejected(features->size(), 0) {}
+      rejected(features->dynamic.empty() ? std::vector<std::uint8_t>(features->size(), 0) : features->dynamic) {}
 
 bool Frame::IsInFrustum(MapPoint& point, double viewing_cos_limit) const {
   point.track.in_view = false;

@@ -147,7 +147,11 @@ std::string CameraYaml() {
          "  p2: 0.0\n"
          "  k3: 0.0\n"
          "  fps: 30.0\n"
-         "  depth_factor: 5000.0\n";
+         "  depth_factor: 5000.0\n"
+         "# the ground-truth boxes in detections.txt stand in for the detector: a COCO\n"
+         "# network does not know the textured stand-ins for people (use --config to change)\n"
+         "detector:\n"
+         "  backend: file\n";
 }
 
 SynthSummary GenerateSequence(const SynthOptions& options, const fs::path& out) {

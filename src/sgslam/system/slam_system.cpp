@@ -8,12 +8,13 @@
 
 namespace sgslam {
 
-SlamSystem::SlamSystem(const Config& config, bool sequential)
+SlamSystem::SlamSystem(const Config& config, bool sequential, std::unique_ptr<Detector> detector)
     : config_(config),
       sequential_(sequential),
       camera_(std::make_shared<Camera>(config.camera)),
       scale_(std::make_shared<ScaleLevels>(features::MakeScaleLevels(config.orb.scale_factor, config.orb.levels))),
       extractor_(config.orb),
+      dynamic_(config, std::move(detector), sequential),
       tracker_(config, map_),
       mapper_(config, map_),
       queue_(static_cast<std::size_t>(config.mapping.queue_size)) {
@@ -47,16 +48,36 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
   report.index = images.index;
   report.t = images.t;
 
+  // The detector works on this frame while ORB features are extracted (Fig. 1).
+  const std::uint64_t frame_id = next_frame_id_++;
+  dynamic_.Submit(frame_id, images.t, images.bgr);
   Stopwatch watch;
   cv::Mat gray;
   cv::cvtColor(images.bgr, gray, cv::COLOR_BGR2GRAY);
   std::vector<cv::KeyPoint> keys;
   cv::Mat descriptors;
   extractor_.Extract(gray, keys, descriptors);
-  Frame frame(next_frame_id_++, images.t,
-              MakeFeatures(std::move(keys), std::move(descriptors), images.depth, camera_, scale_), gray);
-  report.features = static_cast<int>(frame.size());
   report.extract_ms = watch.ElapsedMs();
+
+  DynamicOutcome dyn = dynamic_.Label(frame_id, gray, images.depth, keys, tracker_.PredictedMotion());
+  report.kept = dyn.judged ? dyn.kept : static_cast<int>(keys.size());
+  report.rejected_geometry = dyn.rejected_geometry;
+  report.rejected_semantics = dyn.rejected_semantics;
+  report.rejected_depth = dyn.rejected_depth;
+  report.detections = static_cast<int>(dyn.detections.size());
+  report.detector_late = dyn.detector_late;
+  report.detector_ms = dyn.detector_ms;
+  report.wait_ms = dyn.wait_ms;
+  report.reject_ms = dyn.reject_ms;
+  if (!dyn.judged) dyn.dynamic.clear();
+  Frame frame(frame_id, images.t,
+              MakeFeatures(std::move(keys), std::move(descriptors), images.depth, camera_, scale_,
+                           std::move(dyn.dynamic), std::move(dyn.detections)),
+              gray);
+  report.features = static_cast<int>(frame.size());
+  report.keypoints.reserve(frame.size());
+  for (const auto& k : frame.features->keys) report.keypoints.push_back(k.pt);
+  report.rejected = frame.rejected;
 
   watch.Restart();
   const bool idle = sequential_ ? frame.id >= last_keyframe_frame_id_ +

@@ -19,6 +19,7 @@
 #include "sgslam/io/tum_dataset.h"
 #include "sgslam/map/map.h"
 #include "sgslam/mapping/local_mapper.h"
+#include "sgslam/system/dynamic_stage.h"
 #include "sgslam/tracking/tracker.h"
 
 namespace sgslam {
@@ -29,12 +30,25 @@ struct FrameReport {
   TrackState state = TrackState::kNotInitialized;
   int features = 0, matches = 0, inliers = 0;
   bool keyframe = false;
+  // Dynamic feature rejection (zeros in mode none): keypoints kept, rejected by
+  // the epipolar test, by the boxes alone, by the RGB-D check.
+  int kept = 0, rejected_geometry = 0, rejected_semantics = 0, rejected_depth = 0;
+  int detections = 0;
+  bool detector_late = false;  // tracking stopped waiting: geometry-only frame
+  double detector_ms = 0;      // inference time of this frame (detector thread)
+  double wait_ms = 0;          // time tracking waited for the detections
+  double reject_ms = 0;        // LK flow + F + Algorithm 1
   double extract_ms = 0, track_ms = 0, total_ms = 0;
+  // The keypoints (raw pixels) and their labels (1 = rejected as dynamic), for
+  // scoring against ground-truth masks; callers drop them after use.
+  std::vector<cv::Point2f> keypoints;
+  std::vector<std::uint8_t> rejected;
 };
 
 class SlamSystem {
  public:
-  SlamSystem(const Config& config, bool sequential);
+  // detector: the object detector for modes semantic and sg (may be null).
+  SlamSystem(const Config& config, bool sequential, std::unique_ptr<Detector> detector = nullptr);
   ~SlamSystem();
   SlamSystem(const SlamSystem&) = delete;
   SlamSystem& operator=(const SlamSystem&) = delete;
@@ -51,6 +65,8 @@ class SlamSystem {
   // Map consistency problems (empty when consistent); call after Finish().
   std::vector<std::string> CheckMap() const;
   std::vector<MappingStats> mapping_stats() const;
+  DetectionWorkerStats detector_stats() const { return dynamic_.detector_stats(); }
+  std::string DescribeDetector() const { return dynamic_.DescribeDetector(); }
 
  private:
   void MappingLoop();
@@ -60,6 +76,7 @@ class SlamSystem {
   std::shared_ptr<const Camera> camera_;
   std::shared_ptr<const ScaleLevels> scale_;
   features::OrbExtractor extractor_;
+  DynamicStage dynamic_;
   Map map_;
   Tracker tracker_;
   LocalMapper mapper_;

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "sgslam/config/config.h"
@@ -37,6 +38,12 @@ class Tracker {
   TrackResult Track(Frame& frame, bool mapping_idle, std::size_t mapping_queue);
 
   TrackState state() const { return state_; }
+  // The constant-velocity prediction of the next frame's motion, T_next_last
+  // (what the motion model will assume); none after a loss or before two poses.
+  std::optional<SE3> PredictedMotion() const {
+    if (state_ != TrackState::kOk || !has_velocity_) return std::nullopt;
+    return velocity_;
+  }
 
  private:
   bool Initialize(Frame& frame, TrackResult& result);

@@ -1,0 +1,77 @@
+// The front of tracking in a dynamic scene (paper Fig. 1, Sec. III-A to III-D):
+// every frame goes to the object detection thread as it arrives, tracking extracts
+// ORB features meanwhile, then waits (with a timeout) for the same frame's boxes
+// and runs Algorithm 1 (backward LK flow, 7-point RANSAC F, epipolar distance times
+// the class weight) to label each keypoint static or dynamic.
+//
+// Mode none skips everything; geometric never needs the detector; semantic and sg
+// use it when one is given, else they degrade (semantic to none, sg to geometric)
+// with one warning. The current LK pyramid is kept as the next frame's previous
+// one, so each image's pyramid is built once.
+//
+// Threading: all calls from the tracking thread; the detector runs on the
+// DetectionWorker's thread (or inside Submit in sequential mode).
+#pragma once
+
+#include <chrono>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "sgslam/common/se3.h"
+#include "sgslam/config/config.h"
+#include "sgslam/detection/detection.h"
+#include "sgslam/detection/detection_worker.h"
+#include "sgslam/detection/detector.h"
+#include "sgslam/dynamic/rejection.h"
+
+namespace sgslam {
+
+class Camera;
+
+struct DynamicOutcome {
+  std::vector<std::uint8_t> dynamic;  // per keypoint: 1 = rejected (never tracked nor mapped)
+  std::vector<Detection> detections;  // of this frame (empty without a detector or when late)
+  int kept = 0, rejected_geometry = 0, rejected_semantics = 0, rejected_depth = 0;
+  bool judged = false;        // Algorithm 1 ran (not the first frame, mode not none)
+  bool detector_used = false;  // a detector is attached
+  bool detector_late = false;  // the wait timed out or the frame was dropped
+  double detector_ms = 0;      // inference time of this frame's detections
+  double wait_ms = 0;          // time tracking waited for them
+  double reject_ms = 0;        // flow + F + decision
+};
+
+class DynamicStage {
+ public:
+  // detector may be null. Throws ConfigError for an unknown mode.
+  DynamicStage(const Config& config, std::unique_ptr<Detector> detector, bool sequential);
+
+  dynamic::Mode mode() const { return mode_; }
+  bool has_detector() const { return worker_ != nullptr; }
+  std::string DescribeDetector() const;
+
+  // Hands the colour image to the detector (no-op without one).
+  void Submit(std::uint64_t frame_id, Timestamp t, const cv::Mat& bgr);
+
+  // Labels the keypoints (raw, distorted positions) of the frame just submitted.
+  // depth_raw and T_cur_prev feed the optional RGB-D check (dynamic.depth_check);
+  // without T_cur_prev the check is skipped for this frame.
+  DynamicOutcome Label(std::uint64_t frame_id, const cv::Mat& gray, const cv::Mat& depth_raw,
+                       const std::vector<cv::KeyPoint>& keys, const std::optional<SE3>& T_cur_prev);
+
+  DetectionWorkerStats detector_stats() const;
+
+ private:
+  const Config config_;
+  const dynamic::Mode mode_;
+  const bool wants_detector_;
+  std::shared_ptr<const Camera> camera_;
+  ClassTable classes_;
+  std::unique_ptr<DetectionWorker> worker_;
+  dynamic::FlowFrame prev_;
+  cv::Mat prev_depth_;
+};
+
+}  // namespace sgslam
