@@ -129,6 +129,7 @@ RunSummary RunSequence(const RunOptions& o) {
   const Trajectory trajectory = system.FrameTrajectory();
   WriteTumTrajectory(s.out / "trajectory.txt", trajectory);
   WriteTumTrajectory(s.out / "keyframes.txt", system.KeyFrameTrajectory());
+  WriteTumTrajectory(s.out / "trajectory_online.txt", system.OnlineTrajectory());
   const auto points = system.MapPointPositions();
   WritePly(s.out / "map_points.ply", points);
 

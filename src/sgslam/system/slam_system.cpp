@@ -90,7 +90,7 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
   report.track_ms = watch.ElapsedMs();
   if (result.state == TrackState::kOk && frame.reference_kf) {
     std::shared_lock lock(map_.mutex());
-    records_.push_back({frame.t, frame.reference_kf, frame.T_c_w * frame.reference_kf->T_w_c()});
+    records_.push_back({frame.t, frame.reference_kf, frame.T_c_w * frame.reference_kf->T_w_c(), frame.T_c_w.Inverse()});
   }
   if (result.new_keyframe) {
     report.keyframe = true;
@@ -121,6 +121,13 @@ Trajectory SlamSystem::FrameTrajectory() const {
     if (!ref) continue;
     out.push_back({r.t, (T_c_r * ref->T_c_w()).Inverse()});
   }
+  return out;
+}
+
+Trajectory SlamSystem::OnlineTrajectory() const {
+  Trajectory out;
+  out.reserve(records_.size());
+  for (const auto& r : records_) out.push_back({r.t, r.T_w_c_online});
   return out;
 }
 

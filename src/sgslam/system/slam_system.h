@@ -60,6 +60,8 @@ class SlamSystem {
   // Every tracked frame, T_w_c, placed relative to its reference keyframe's final pose.
   Trajectory FrameTrajectory() const;
   Trajectory KeyFrameTrajectory() const;
+  // Every tracked frame, T_w_c, as tracking output it at the time (what a robot got live).
+  Trajectory OnlineTrajectory() const;
   std::vector<Eigen::Vector3d> MapPointPositions() const;
   std::size_t NumKeyFrames() const;
   // Map consistency problems (empty when consistent); call after Finish().
@@ -84,7 +86,8 @@ class SlamSystem {
   struct PoseRecord {
     Timestamp t;
     std::shared_ptr<KeyFrame> reference;
-    SE3 T_c_r;  // frame pose relative to the reference keyframe
+    SE3 T_c_r;     // frame pose relative to the reference keyframe
+    SE3 T_w_c_online;  // the pose as tracking output it, before later map corrections
   };
   std::vector<PoseRecord> records_;
   std::uint64_t next_frame_id_ = 0;
