@@ -38,6 +38,11 @@ TrackResult Tracker::Track(Frame& frame, bool mapping_idle, std::size_t mapping_
   bool ok = false;
   {
     std::shared_lock lock(map_.mutex());
+    // Local BA may have moved the last frame's reference keyframe since: keep the
+    // last frame where it sits relative to it (ORB-SLAM2's UpdateLastFrame).
+    if (const auto& ref = last_frame_.reference_kf; ref && !ref->bad() && last_frame_.has_pose) {
+      last_frame_.T_c_w = last_T_c_r_ * ref->T_c_w();
+    }
     if (state_ == TrackState::kOk) {
       ok = (has_velocity_ && TrackWithMotionModel(frame, result)) ||
            TrackReferenceKeyFrame(frame, reference_kf_, result);
@@ -67,6 +72,10 @@ TrackResult Tracker::Track(Frame& frame, bool mapping_idle, std::size_t mapping_
     need_keyframe = NeedNewKeyFrame(frame, result.inliers, mapping_idle, mapping_queue);
   }
   if (need_keyframe) result.new_keyframe = CreateKeyFrame(frame);
+  {
+    std::shared_lock lock(map_.mutex());
+    last_T_c_r_ = frame.T_c_w * frame.reference_kf->T_w_c();
+  }
   // Outliers of this frame must not seed the next frame's motion search.
   DiscardOutliers(frame);
   last_frame_ = frame;

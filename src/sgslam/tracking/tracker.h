@@ -68,6 +68,7 @@ class Tracker {
   bool has_velocity_ = false;
   SE3 velocity_;  // T_cur_last of the last two tracked frames
   std::shared_ptr<KeyFrame> reference_kf_;
+  SE3 last_T_c_r_;  // last frame's pose relative to its reference keyframe
   std::uint64_t last_keyframe_frame_id_ = 0;
   double th_depth_ = 0;  // m, the close/far limit of depth points
 };
