@@ -11,6 +11,7 @@ PACKAGES=(
   libyaml-cpp-dev libcli11-dev libspdlog-dev nlohmann-json3-dev
   libgtest-dev libbenchmark-dev
   darknet  # only for /usr/share/darknet/data/person.jpg, the detector test's real image
+  python3  # scripts/ablation.sh tables
 )
 
 build=1
