@@ -20,6 +20,7 @@
 #include "sgslam/detection/detector.h"
 #include "sgslam/system/run_config.h"
 #include "sgslam/system/slam_system.h"
+#include "semantic_output.h"
 
 namespace sgslam::app {
 
@@ -132,6 +133,40 @@ RunSummary RunSequence(const RunOptions& o) {
   WriteTumTrajectory(s.out / "trajectory_online.txt", system.OnlineTrajectory());
   const auto points = system.MapPointPositions();
   WritePly(s.out / "map_points.ply", points);
+  nlohmann::json semantic_json;
+  if (SemanticMapper* sem = system.semantic()) {
+    std::vector<Eigen::Vector3d> cloud;
+    std::vector<Rgb> colours;
+    std::vector<ObjectEstimate> objects;
+    system.ExportSemantic(cloud, colours, objects);
+    WritePly(s.out / "cloud.ply", cloud, colours);
+    sem->octomap().Write(s.out / "octomap.bt");
+    WriteObjectsJson(s.out / "objects.json", objects);
+    PrintObjectTable(objects);
+    const SemanticStats st = sem->stats();
+    semantic_json = {{"keyframes", st.keyframes},
+                     {"keyframes_dropped", st.dropped},
+                     {"median_keyframe_ms", Median(st.ms)},
+                     {"median_mask_ms", st.median_mask_ms},
+                     {"median_cloud_ms", st.median_cloud_ms},
+                     {"median_octomap_ms", st.median_octomap_ms},
+                     {"median_objects_ms", st.median_objects_ms},
+                     {"cloud_points", st.cloud_points},
+                     {"cloud_points_removed_as_free", st.cloud_points_freed},
+                     {"octomap_occupied_leaves", sem->octomap().OccupiedLeaves()},
+                     {"objects", std::count_if(objects.begin(), objects.end(), [](const auto& e) { return e.exported; })}};
+    if (!masks.empty()) {
+      const auto truth_cloud = sem->ScoreCloud([&](Timestamp t) { return masks.Load(t).value_or(cv::Mat()); });
+      const double share = truth_cloud.points > 0 ? static_cast<double>(truth_cloud.moving) / truth_cloud.points : 0.0;
+      semantic_json["truth"] = {{"keyframes", truth_cloud.keyframes},
+                                {"cloud_points", truth_cloud.points},
+                                {"cloud_points_on_moving_pixels", truth_cloud.moving},
+                                {"moving_share", share}};
+      spdlog::info("dense cloud vs ground-truth masks ({} keyframes): {:.2f} % of {} points on moving pixels",
+                   truth_cloud.keyframes, 100 * share, truth_cloud.points);
+    }
+    if (st.dropped > 0) spdlog::warn("semantic mapping fell behind: {} keyframes left out of the map", st.dropped);
+  }
 
   s.frames = reports.size();
   s.keyframes = system.NumKeyFrames();
@@ -212,6 +247,7 @@ RunSummary RunSequence(const RunOptions& o) {
       spdlog::warn("no ATE: {}", e.what());
     }
   }
+  if (!semantic_json.is_null()) stats["semantic"] = semantic_json;
   if (!failure.empty()) stats["error"] = failure;
   WriteFileAtomically(s.out / "stats.json", stats.dump(2) + "\n");
   if (!failure.empty()) {

@@ -9,6 +9,7 @@
 #include "sgslam/config/checker.h"
 #include "sgslam/detection/detector_config.h"
 #include "sgslam/dynamic/dynamic_config.h"
+#include "sgslam/semantic/semantic_config.h"
 
 namespace sgslam {
 
@@ -157,6 +158,7 @@ struct Config {
   MappingConfig mapping;
   DetectorConfig detector;
   DynamicConfig dynamic;
+  SemanticConfig semantic;
 
   template <class V>
   void VisitSections(V&& v) {
@@ -167,6 +169,7 @@ struct Config {
     v("mapping", mapping);
     v("detector", detector);
     v("dynamic", dynamic);
+    v("semantic", semantic);
   }
   template <class V>
   void VisitSections(V&& v) const {

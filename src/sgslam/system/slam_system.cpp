@@ -18,6 +18,7 @@ SlamSystem::SlamSystem(const Config& config, bool sequential, std::unique_ptr<De
       tracker_(config, map_),
       mapper_(config, map_),
       queue_(static_cast<std::size_t>(config.mapping.queue_size)) {
+  if (config.semantic.enabled) semantic_ = std::make_unique<SemanticMapper>(config, map_, sequential);
   if (!sequential_) mapping_thread_ = std::thread([this] { MappingLoop(); });
 }
 
@@ -28,18 +29,30 @@ void SlamSystem::Finish() {
   finished_ = true;
   queue_.Shutdown();  // the thread drains what is queued, then exits
   if (mapping_thread_.joinable()) mapping_thread_.join();
+  if (semantic_) semantic_->Finish();  // after local mapping: nothing feeds it any more
 }
 
 void SlamSystem::MappingLoop() {
-  while (auto kf = queue_.Pop()) {
+  while (auto item = queue_.Pop()) {
     mapping_busy_ = true;
-    const MappingStats stats = mapper_.Process(*kf, [this] { return queue_.size() > 0; });
+    const MappingStats stats = mapper_.Process(item->keyframe, [this] { return queue_.size() > 0; });
     {
       std::lock_guard lock(stats_mutex_);
       mapping_stats_.push_back(stats);
     }
+    ToSemantic(std::move(*item));
     mapping_busy_ = false;
   }
+}
+
+void SlamSystem::ToSemantic(SemanticInput item) {
+  if (!semantic_) return;
+  bool bad = false;
+  {
+    std::shared_lock lock(map_.mutex());
+    bad = item.keyframe->bad();  // culled as redundant: its views are in other keyframes
+  }
+  if (!bad) semantic_->Submit(std::move(item));
 }
 
 FrameReport SlamSystem::Process(const RgbdImages& images) {
@@ -95,11 +108,15 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
   if (result.new_keyframe) {
     report.keyframe = true;
     last_keyframe_frame_id_ = frame.id;
+    SemanticInput item{result.new_keyframe, images.bgr, images.depth};
     if (sequential_) {
-      std::lock_guard lock(stats_mutex_);
-      mapping_stats_.push_back(mapper_.Process(result.new_keyframe, [] { return false; }));
+      {
+        std::lock_guard lock(stats_mutex_);
+        mapping_stats_.push_back(mapper_.Process(result.new_keyframe, [] { return false; }));
+      }
+      ToSemantic(std::move(item));
     } else {
-      queue_.Push(result.new_keyframe);
+      queue_.Push(std::move(item));
     }
   }
   report.total_ms = total.ElapsedMs();
@@ -156,6 +173,17 @@ std::size_t SlamSystem::NumKeyFrames() const {
 std::vector<std::string> SlamSystem::CheckMap() const {
   std::shared_lock lock(map_.mutex());
   return CheckMapConsistency(map_);
+}
+
+void SlamSystem::ExportSemantic(std::vector<Eigen::Vector3d>& cloud, std::vector<Rgb>& colours,
+                                std::vector<ObjectEstimate>& objects, const SE3& T_out_map) const {
+  cloud.clear();
+  colours.clear();
+  objects.clear();
+  if (!semantic_) return;
+  std::shared_lock lock(map_.mutex());
+  semantic_->ExportCloud(cloud, colours);
+  objects = semantic_->ExportObjects(T_out_map);
 }
 
 std::vector<MappingStats> SlamSystem::mapping_stats() const {

@@ -19,6 +19,7 @@
 #include "sgslam/io/tum_dataset.h"
 #include "sgslam/map/map.h"
 #include "sgslam/mapping/local_mapper.h"
+#include "sgslam/semantic/semantic_mapper.h"
 #include "sgslam/system/dynamic_stage.h"
 #include "sgslam/tracking/tracker.h"
 
@@ -68,10 +69,19 @@ class SlamSystem {
   std::vector<std::string> CheckMap() const;
   std::vector<MappingStats> mapping_stats() const;
   DetectionWorkerStats detector_stats() const { return dynamic_.detector_stats(); }
+
+  // The semantic map (semantic.enabled), after Finish(): the static dense cloud in
+  // the map frame, the objects, the OctoMap. Null / empty when disabled.
+  const SemanticMapper* semantic() const { return semantic_.get(); }
+  SemanticMapper* semantic() { return semantic_.get(); }
+  // T_out_map: the frame objects are expressed (and boxed) in; cloud: map frame.
+  void ExportSemantic(std::vector<Eigen::Vector3d>& cloud, std::vector<Rgb>& colours,
+                      std::vector<ObjectEstimate>& objects, const SE3& T_out_map = SE3()) const;
   std::string DescribeDetector() const { return dynamic_.DescribeDetector(); }
 
  private:
   void MappingLoop();
+  void ToSemantic(SemanticInput item);
 
   const Config config_;
   const bool sequential_;
@@ -93,7 +103,8 @@ class SlamSystem {
   std::uint64_t next_frame_id_ = 0;
   std::uint64_t last_keyframe_frame_id_ = 0;  // --sequential: emulates the mapping thread's busy time
 
-  BoundedQueue<std::shared_ptr<KeyFrame>> queue_;
+  std::unique_ptr<SemanticMapper> semantic_;  // fed by local mapping with refined keyframes
+  BoundedQueue<SemanticInput> queue_;         // keyframes (with their images) for local mapping
   std::atomic<bool> mapping_busy_{false};
   std::atomic<bool> finishing_{false};
   mutable std::mutex stats_mutex_;

@@ -1,0 +1,44 @@
+#include "semantic_output.h"
+
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "sgslam/io/text_file.h"
+
+namespace sgslam::app {
+
+void WriteObjectsJson(const std::filesystem::path& path, const std::vector<ObjectEstimate>& objects) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const ObjectEstimate& o : objects) {
+    if (!o.exported) continue;
+    list.push_back({{"id", o.id},
+                    {"class", o.class_name},
+                    {"class_id", o.class_id},
+                    {"confidence", o.confidence},
+                    {"observations", o.observations},
+                    {"centroid", {o.centroid.x(), o.centroid.y(), o.centroid.z()}},
+                    {"size", {o.size.x(), o.size.y(), o.size.z()}}});
+  }
+  const nlohmann::json doc = {
+      {"map_frame",
+       "the camera frame of the first keyframe: x right, y down, z forward, metres (as trajectory.txt); "
+       "size is the axis-aligned extent in this frame, centroid the centre of that box"},
+      {"objects", list}};
+  WriteFileAtomically(path, doc.dump(2) + "\n");
+}
+
+void PrintObjectTable(const std::vector<ObjectEstimate>& objects) {
+  int n = 0;
+  for (const ObjectEstimate& o : objects) n += o.exported ? 1 : 0;
+  std::printf("%d semantic objects%s\n", n, n > 0 ? ":" : "");
+  if (n == 0) return;
+  std::printf("  %4s  %-14s %5s %5s  %-26s %s\n", "id", "class", "conf", "obs", "centroid [m]", "size [m]");
+  for (const ObjectEstimate& o : objects) {
+    if (!o.exported) continue;
+    std::printf("  %4d  %-14s %5.2f %5d  %7.2f %7.2f %7.2f    %5.2f %5.2f %5.2f\n", o.id, o.class_name.c_str(),
+                o.confidence, o.observations, o.centroid.x(), o.centroid.y(), o.centroid.z(), o.size.x(), o.size.y(),
+                o.size.z());
+  }
+}
+
+}  // namespace sgslam::app

@@ -1,0 +1,99 @@
+#include "sgslam/semantic/cloud.h"
+
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
+
+#include "sgslam/camera/camera.h"
+
+namespace sgslam {
+
+namespace {
+
+// 21 bits per axis: +-1e6 voxels, ample for rooms at centimetre voxels.
+std::uint64_t VoxelKey(const Eigen::Vector3f& p, double inv_voxel) {
+  const auto axis = [&](float x) {
+    return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(x * inv_voxel)) + (1 << 20)) & 0x1FFFFF;
+  };
+  return axis(p.x()) | (axis(p.y()) << 21) | (axis(p.z()) << 42);
+}
+
+}  // namespace
+
+std::vector<ColoredPoint> VoxelDownsample(const std::vector<ColoredPoint>& in, double voxel) {
+  struct Sum {
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    double r = 0, g = 0, b = 0;
+    int n = 0;
+  };
+  const double inv = 1.0 / voxel;
+  std::unordered_map<std::uint64_t, std::size_t> index;
+  index.reserve(in.size());
+  std::vector<Sum> sums;
+  for (const ColoredPoint& c : in) {
+    if (!c.p.allFinite()) continue;
+    const auto [it, fresh] = index.emplace(VoxelKey(c.p, inv), sums.size());
+    if (fresh) sums.emplace_back();
+    Sum& s = sums[it->second];
+    s.p += c.p.cast<double>();
+    s.r += c.rgb[0], s.g += c.rgb[1], s.b += c.rgb[2];
+    ++s.n;
+  }
+  std::vector<ColoredPoint> out;
+  out.reserve(sums.size());
+  for (const Sum& s : sums) {
+    const auto byte = [&](double v) { return static_cast<std::uint8_t>(std::lround(v / s.n)); };
+    out.push_back({(s.p / s.n).cast<float>(), {byte(s.r), byte(s.g), byte(s.b)}});
+  }
+  return out;
+}
+
+PixelRays::PixelRays(const Camera& camera) : rays_(camera.height(), camera.width(), CV_32FC2) {
+  std::vector<cv::Point2f> pixels;
+  pixels.reserve(static_cast<std::size_t>(camera.width()) * static_cast<std::size_t>(camera.height()));
+  for (int v = 0; v < camera.height(); ++v) {
+    for (int u = 0; u < camera.width(); ++u) pixels.emplace_back(static_cast<float>(u), static_cast<float>(v));
+  }
+  camera.Undistort(pixels);  // the depth image is registered to the raw (distorted) colour image
+  std::size_t k = 0;
+  for (int v = 0; v < camera.height(); ++v) {
+    for (int u = 0; u < camera.width(); ++u, ++k) {
+      rays_.at<cv::Vec2f>(v, u) = {static_cast<float>((pixels[k].x - camera.cx()) / camera.fx()),
+                                   static_cast<float>((pixels[k].y - camera.cy()) / camera.fy())};
+    }
+  }
+}
+
+std::vector<ColoredPoint> BackProject(const cv::Mat& bgr, const cv::Mat& depth_raw, double depth_factor,
+                                      const cv::Mat& mask, const PixelRays& rays, int stride,
+                                      const SemanticConfig& config) {
+  std::vector<ColoredPoint> out;
+  if (depth_raw.empty() || depth_raw.type() != CV_16UC1 || depth_raw.size() != rays.size()) return out;
+  const bool colour = !bgr.empty() && bgr.size() == depth_raw.size() && bgr.depth() == CV_8U;
+  const int channels = colour ? bgr.channels() : 0;
+  const double inv_factor = 1.0 / depth_factor;
+  out.reserve(static_cast<std::size_t>(depth_raw.total() / static_cast<std::size_t>(stride * stride)));
+  for (int v = 0; v < depth_raw.rows; v += stride) {
+    const std::uint16_t* d = depth_raw.ptr<std::uint16_t>(v);
+    const std::uint8_t* m = mask.empty() ? nullptr : mask.ptr<std::uint8_t>(v);
+    for (int u = 0; u < depth_raw.cols; u += stride) {
+      if (m != nullptr && m[u] != 0) continue;
+      const double z = d[u] * inv_factor;
+      if (d[u] == 0 || z < config.depth_min || z > config.depth_max) continue;
+      const cv::Vec2f& r = rays.at(u, v);
+      ColoredPoint p;
+      p.p = Eigen::Vector3f(static_cast<float>(r[0] * z), static_cast<float>(r[1] * z), static_cast<float>(z));
+      if (channels >= 3) {
+        const std::uint8_t* c = bgr.ptr<std::uint8_t>(v) + static_cast<std::ptrdiff_t>(u) * channels;
+        p.rgb = {c[2], c[1], c[0]};
+      } else if (channels == 1) {
+        const std::uint8_t g = bgr.ptr<std::uint8_t>(v)[u];
+        p.rgb = {g, g, g};
+      }
+      out.push_back(p);
+    }
+  }
+  return out;
+}
+
+}  // namespace sgslam

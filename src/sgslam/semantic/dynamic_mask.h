@@ -1,0 +1,25 @@
+// Which pixels of a keyframe belong to moving objects and stay out of the static
+// map (paper Sec. III-E: point clouds and the OctoMap leave dynamic objects out):
+//  - every box of a dynamic class (ClassTable::is_dynamic, e.g. person), grown by
+//    box_margin of its size on each side since detector boxes are loose;
+//  - around each keypoint that tracking rejected as dynamic outside those boxes
+//    (motion the detector missed, e.g. an unknown moving box), the pixels within
+//    motion_radius whose depth lies within motion_depth_band of the keypoint's:
+//    the moving surface near the keypoint, not the background behind it.
+#pragma once
+
+#include <opencv2/core.hpp>
+#include <vector>
+
+#include "sgslam/detection/detection.h"
+#include "sgslam/detection/detector_config.h"
+#include "sgslam/semantic/semantic_config.h"
+
+namespace sgslam {
+
+// CV_8UC1, 255 = dynamic. keys: raw keypoint positions; rejected: one flag per key (or empty).
+cv::Mat DynamicPixelMask(const cv::Mat& depth_raw, double depth_factor, const std::vector<Detection>& detections,
+                         const ClassTable& classes, const std::vector<cv::KeyPoint>& keys,
+                         const std::vector<std::uint8_t>& rejected, const SemanticConfig& config);
+
+}  // namespace sgslam

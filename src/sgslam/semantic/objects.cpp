@@ -1,0 +1,229 @@
+#include "sgslam/semantic/objects.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "sgslam/map/keyframe.h"
+
+namespace sgslam {
+
+namespace {
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+double Percentile(std::vector<double>& v, double q) {
+  const auto k = static_cast<std::ptrdiff_t>(std::lround(q * static_cast<double>(v.size() - 1)));
+  std::nth_element(v.begin(), v.begin() + k, v.end());
+  return v[static_cast<std::size_t>(k)];
+}
+
+double Volume(const Eigen::Vector3d& min, const Eigen::Vector3d& max) {
+  const Eigen::Vector3d d = (max - min).cwiseMax(0.0);
+  return d.x() * d.y() * d.z();
+}
+
+bool Inside(const Eigen::Vector3d& p, const Eigen::Vector3d& min, const Eigen::Vector3d& max) {
+  return (p.array() >= min.array()).all() && (p.array() <= max.array()).all();
+}
+
+}  // namespace
+
+std::optional<ObjectObservation> ObserveObject(const Detection& detection, const cv::Mat& depth_raw,
+                                               double depth_factor, const PixelRays& rays,
+                                               const SemanticConfig& config) {
+  if (depth_raw.empty() || depth_raw.type() != CV_16UC1 || depth_raw.size() != rays.size()) return std::nullopt;
+  const cv::Rect image(0, 0, depth_raw.cols, depth_raw.rows);
+  const cv::Rect2f& b = detection.box;
+  const cv::Rect full = cv::Rect(cv::Point(cvRound(b.x), cvRound(b.y)), cv::Point(cvRound(b.x + b.width), cvRound(b.y + b.height))) & image;
+  // Sec. III-E: the box is first reduced (its border holds background and
+  // neighbours) and the depth of the object is taken there...
+  const double s = config.object_box_shrink;
+  const cv::Rect inner = cv::Rect(cv::Point(cvRound(b.x + b.width * (1 - s) / 2), cvRound(b.y + b.height * (1 - s) / 2)),
+                                  cv::Point(cvRound(b.x + b.width * (1 + s) / 2), cvRound(b.y + b.height * (1 + s) / 2))) &
+                         image;
+  if (inner.area() <= 0 || full.area() <= 0) return std::nullopt;
+  const auto sample = [&](const cv::Rect& r, int max_points, std::vector<cv::Point>& pixels, std::vector<double>& depths) {
+    const int step = std::max(1, static_cast<int>(std::sqrt(r.area() / (4.0 * max_points))));
+    for (int v = r.y; v < r.y + r.height; v += step) {
+      const std::uint16_t* d = depth_raw.ptr<std::uint16_t>(v);
+      for (int u = r.x; u < r.x + r.width; u += step) {
+        const double z = d[u] / depth_factor;
+        if (d[u] == 0 || z < config.depth_min || z > config.depth_max) continue;
+        pixels.emplace_back(u, v);
+        depths.push_back(z);
+      }
+    }
+  };
+  std::vector<cv::Point> inner_pixels;
+  std::vector<double> inner_depths;
+  sample(inner, config.object_max_points, inner_pixels, inner_depths);
+  if (static_cast<int>(inner_depths.size()) < config.object_min_points) return std::nullopt;
+  const double median = Median(inner_depths);
+  std::vector<double> dev(inner_depths.size());
+  for (std::size_t i = 0; i < inner_depths.size(); ++i) dev[i] = std::abs(inner_depths[i] - median);
+  const double mad = std::max(Median(dev) * 1.4826, 0.01);  // 1 cm floor: a flat face has MAD ~ 0
+  // ... then every depth of the original box is compared with it, and rejected
+  // when too far (median / MAD: robust where the paper takes the mean).
+  std::vector<cv::Point> pixels;
+  std::vector<double> depths;
+  sample(full, 2 * config.object_max_points, pixels, depths);
+  std::vector<Eigen::Vector3f> points;
+  for (std::size_t i = 0; i < depths.size(); ++i) {
+    if (std::abs(depths[i] - median) > config.object_mad_factor * mad) continue;
+    const cv::Vec2f& r = rays.at(pixels[i].x, pixels[i].y);
+    const auto z = static_cast<float>(depths[i]);
+    points.emplace_back(r[0] * z, r[1] * z, z);
+  }
+  // 3-D outliers: points much further from the median point than the others.
+  if (points.size() >= 3) {
+    Eigen::Vector3f m;
+    for (int a = 0; a < 3; ++a) {
+      std::vector<double> c;
+      c.reserve(points.size());
+      for (const auto& p : points) c.push_back(p[a]);
+      m[a] = static_cast<float>(Median(c));
+    }
+    std::vector<double> dist;
+    dist.reserve(points.size());
+    for (const auto& p : points) dist.push_back((p - m).norm());
+    const double dm = Median(dist);
+    std::vector<double> ddev;
+    for (double d : dist) ddev.push_back(std::abs(d - dm));
+    const double limit = dm + config.object_mad_factor * std::max(Median(ddev) * 1.4826, 0.01);
+    std::vector<Eigen::Vector3f> kept;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (dist[i] <= limit) kept.push_back(points[i]);
+    }
+    points.swap(kept);
+  }
+  if (static_cast<int>(points.size()) < config.object_min_points) return std::nullopt;
+  if (static_cast<int>(points.size()) > config.object_max_points) {  // even thinning, deterministic
+    std::vector<Eigen::Vector3f> thin;
+    const double stride = static_cast<double>(points.size()) / config.object_max_points;
+    for (int k = 0; k < config.object_max_points; ++k) thin.push_back(points[static_cast<std::size_t>(k * stride)]);
+    points.swap(thin);
+  }
+  ObjectObservation o;
+  o.class_id = detection.class_id;
+  o.class_name = detection.class_name;
+  o.score = detection.score;
+  o.box = detection.box;
+  o.points_c = std::move(points);
+  return o;
+}
+
+ObjectDatabase::Box ObjectDatabase::BoxOf(const std::vector<Eigen::Vector3d>& points) {
+  Box b{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  if (points.empty()) return b;
+  for (int a = 0; a < 3; ++a) {
+    std::vector<double> c;
+    c.reserve(points.size());
+    for (const auto& p : points) c.push_back(p[a]);
+    b.min[a] = Percentile(c, 0.02);
+    b.max[a] = Percentile(c, 0.98);
+  }
+  return b;
+}
+
+int ObjectDatabase::Add(ObjectObservation observation, const SE3& T_w_c, bool may_create) {
+  std::vector<Eigen::Vector3d> world;
+  world.reserve(observation.points_c.size());
+  for (const auto& p : observation.points_c) world.push_back(T_w_c * p.cast<double>());
+  const Box box = BoxOf(world);
+  const Eigen::Vector3d centre = (box.min + box.max) / 2;
+  Object* best = nullptr;
+  double best_score = 0;
+  for (Object& o : objects_) {
+    if (o.class_id != observation.class_id || o.class_name != observation.class_name) continue;
+    const Eigen::Vector3d lo = box.min.cwiseMax(o.box.min), hi = box.max.cwiseMin(o.box.max);
+    const double inter = Volume(lo, hi);
+    const double iou = inter / std::max(Volume(box.min, box.max) + Volume(o.box.min, o.box.max) - inter, 1e-12);
+    const Eigen::Vector3d o_centre = (o.box.min + o.box.max) / 2;
+    // A partial first view gives a small box: a centre inside the other box counts too.
+    const Eigen::Vector3d m = Eigen::Vector3d::Constant(config_.object_merge_margin);
+    const bool nested = Inside(centre, o.box.min - m, o.box.max + m) || Inside(o_centre, box.min - m, box.max + m);
+    const double score = iou + (nested ? 1.0 : 0.0);
+    if ((iou > config_.object_merge_iou || nested) && score > best_score) {
+      best = &o;
+      best_score = score;
+    }
+  }
+  std::size_t index = 0;
+  if (best == nullptr) {
+    if (!may_create) return 0;
+    objects_.push_back({next_id_++, observation.class_id, observation.class_name, {}, box});
+    poses_.emplace_back();
+    index = objects_.size() - 1;
+  } else {
+    index = static_cast<std::size_t>(best - objects_.data());
+  }
+  Object& o = objects_[index];
+  o.observations.push_back(std::move(observation));
+  poses_[index].push_back(T_w_c);
+  if (o.observations.size() > 1) o.box = BoxOf(CarvedPoints(o, poses_[index]));
+  return o.id;
+}
+
+std::vector<Eigen::Vector3d> ObjectDatabase::CarvedPoints(const Object& o, const std::vector<SE3>& T_w_c) const {
+  const std::size_t n = o.observations.size();
+  std::vector<SE3> T_c_w(n);
+  for (std::size_t j = 0; j < n; ++j) T_c_w[j] = T_w_c[j].Inverse();
+  std::vector<Eigen::Vector3d> all, kept;
+  for (std::size_t i = 0; i < n; ++i) {
+    for (const auto& p : o.observations[i].points_c) {
+      const Eigen::Vector3d x = T_w_c[i] * p.cast<double>();
+      all.push_back(x);
+      int in = 0, out = 0;
+      for (std::size_t j = 0; j < n && project_; ++j) {
+        if (j == i) continue;
+        const Eigen::Vector3d p_c = T_c_w[j] * x;
+        if (p_c.z() < config_.depth_min * 0.5) continue;
+        const Eigen::Vector2d uv = project_(p_c);
+        if (uv.x() < 0 || uv.y() < 0 || uv.x() >= image_.width || uv.y() >= image_.height) continue;
+        const cv::Rect2f& b = o.observations[j].box;
+        const bool inside = uv.x() >= b.x && uv.y() >= b.y && uv.x() <= b.x + b.width && uv.y() <= b.y + b.height;
+        (inside ? in : out)++;
+      }
+      if (in >= out) kept.push_back(x);
+    }
+  }
+  // Views that disagree about everything (a bad merge, a wrong pose): keep all.
+  return kept.size() * 2 >= all.size() ? kept : all;
+}
+
+std::vector<ObjectEstimate> ObjectDatabase::Estimate(const KeyFramePoseFn& pose_of, const SE3& T_out_w) const {
+  std::vector<ObjectEstimate> out;
+  out.reserve(objects_.size());
+  for (std::size_t k = 0; k < objects_.size(); ++k) {
+    const Object& o = objects_[k];
+    std::vector<SE3> T_w_c;
+    double score = 0;
+    for (std::size_t j = 0; j < o.observations.size(); ++j) {
+      const ObjectObservation& obs = o.observations[j];
+      T_w_c.push_back(obs.keyframe ? pose_of(*obs.keyframe) : poses_[k][j]);
+      score += obs.score;
+    }
+    std::vector<Eigen::Vector3d> points = CarvedPoints(o, T_w_c);
+    for (auto& p : points) p = T_out_w * p;
+    const Box b = BoxOf(points);
+    ObjectEstimate e;
+    e.id = o.id;
+    e.class_id = o.class_id;
+    e.class_name = o.class_name;
+    e.observations = static_cast<int>(o.observations.size());
+    const double mean_score = o.observations.empty() ? 0.0 : score / static_cast<double>(o.observations.size());
+    e.confidence = mean_score * (1.0 - std::exp(-e.observations / 2.0));
+    e.centroid = (b.min + b.max) / 2;
+    e.size = b.max - b.min;
+    e.exported = e.observations >= config_.object_min_observations;
+    out.push_back(e);
+  }
+  return out;
+}
+
+}  // namespace sgslam

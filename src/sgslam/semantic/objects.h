@@ -1,0 +1,104 @@
+// 3-D semantic objects from 2-D detections and depth (paper Sec. III-E): for every
+// detection of a static class in a keyframe, the box is shrunk towards its centre,
+// depths far from the median (in MADs) are dropped, 3-D outliers removed, and the
+// samples kept in the keyframe's camera frame. The database merges an observation
+// into an object of the same class whose box overlaps it (3-D IoU, or one centroid
+// inside the other's box grown by a margin), else starts a new object, unless the
+// box is cut by the image edge: such a partial view may only join an object. Each object keeps its
+// observations anchored to their keyframes: its centroid and size are recomputed
+// from them with the keyframes' current poses (robust: 2nd-98th percentile extents
+// of the samples that the other views' boxes agree with, see CarvedPoints), so
+// bundle adjustment moves objects with the map.
+//
+// Threading: not thread-safe; the semantic mapping thread owns the database.
+#pragma once
+
+#include <Eigen/Core>
+#include <functional>
+#include <memory>
+#include <opencv2/core.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "sgslam/common/se3.h"
+#include "sgslam/detection/detection.h"
+#include "sgslam/semantic/cloud.h"
+#include "sgslam/semantic/semantic_config.h"
+
+namespace sgslam {
+
+class KeyFrame;
+
+struct ObjectObservation {
+  std::shared_ptr<KeyFrame> keyframe;     // anchor (null in tests: the samples are then in the world frame)
+  int class_id = -1;
+  std::string class_name;
+  float score = 0.f;
+  cv::Rect2f box;                         // px, the detection box (raw image)
+  std::vector<Eigen::Vector3f> points_c;  // m, samples in the keyframe's camera frame
+};
+
+// Camera-frame point -> raw (distorted) pixel, for checking boxes across views.
+using ProjectFn = std::function<Eigen::Vector2d(const Eigen::Vector3d& p_c)>;
+
+// The observation a detection gives, or none with too few valid depth samples.
+std::optional<ObjectObservation> ObserveObject(const Detection& detection, const cv::Mat& depth_raw,
+                                               double depth_factor, const PixelRays& rays,
+                                               const SemanticConfig& config);
+
+struct ObjectEstimate {
+  int id = 0;
+  int class_id = -1;
+  std::string class_name;
+  double confidence = 0;  // mean score * (1 - exp(-observations / 2)): grows with consistent views
+  int observations = 0;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // m, centre of the box, output frame
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();      // m, axis-aligned extent in the output frame
+  bool exported = false;  // seen at least object_min_observations times
+};
+
+// T_w_c of a keyframe now (the caller resolves culled keyframes and locking).
+using KeyFramePoseFn = std::function<SE3(const KeyFrame&)>;
+
+class ObjectDatabase {
+ public:
+  // project / image: the camera, for carving (below).
+  ObjectDatabase(const SemanticConfig& config, ProjectFn project, cv::Size image)
+      : config_(config), project_(std::move(project)), image_(image) {}
+
+  // Places the observation with the keyframe's pose T_w_c, merges or creates;
+  // returns the object's id, 0 when it matched nothing and may_create is false.
+  int Add(ObjectObservation observation, const SE3& T_w_c, bool may_create = true);
+  // Every object, re-estimated with the keyframes' current poses, in the frame
+  // T_out_w * world (identity: the map frame).
+  std::vector<ObjectEstimate> Estimate(const KeyFramePoseFn& pose_of, const SE3& T_out_w = SE3()) const;
+  std::size_t size() const { return objects_.size(); }
+
+ private:
+  struct Box {
+    Eigen::Vector3d min, max;
+  };
+  struct Object {
+    int id;
+    int class_id;
+    std::string class_name;
+    std::vector<ObjectObservation> observations;
+    Box box;  // world frame, poses at insertion: association only
+  };
+  static Box BoxOf(const std::vector<Eigen::Vector3d>& points);
+  // The object's samples in the world frame that the other views agree with: a
+  // sample is kept when, among the other observations whose image it projects
+  // into, at least half have it inside their box (a visual hull of the boxes: the
+  // floor and wall caught in one view's box corners fall outside the others').
+  std::vector<Eigen::Vector3d> CarvedPoints(const Object& o, const std::vector<SE3>& T_w_c) const;
+
+  SemanticConfig config_;
+  ProjectFn project_;
+  cv::Size image_;
+  std::vector<Object> objects_;
+  std::vector<std::vector<SE3>> poses_;  // per object, T_w_c of each observation at insertion
+  int next_id_ = 1;
+};
+
+}  // namespace sgslam

@@ -1,0 +1,118 @@
+#include "sgslam/semantic/octomap_builder.h"
+
+#include <fcntl.h>
+#include <octomap/ColorOcTree.h>
+#include <unistd.h>
+
+#include <cstdio>
+
+#include "sgslam/common/error.h"
+
+namespace sgslam {
+
+namespace {
+
+// Debian's liboctomap is built with debug output on: writing a tree prints "Writing
+// N nodes to output stream..." on stderr. Writing happens after every thread has
+// stopped, so muting file descriptor 2 for its duration hides nothing else.
+class MutedStderr {
+ public:
+  MutedStderr() {
+    std::fflush(stderr);
+    saved_ = ::dup(2);
+    const int null = ::open("/dev/null", O_WRONLY);
+    if (saved_ >= 0 && null >= 0) ::dup2(null, 2);
+    if (null >= 0) ::close(null);
+  }
+  ~MutedStderr() {
+    std::fflush(stderr);
+    if (saved_ >= 0) {
+      ::dup2(saved_, 2);
+      ::close(saved_);
+    }
+  }
+  MutedStderr(const MutedStderr&) = delete;
+  MutedStderr& operator=(const MutedStderr&) = delete;
+
+ private:
+  int saved_ = -1;
+};
+
+}  // namespace
+
+OctoMapBuilder::OctoMapBuilder(const SemanticConfig& config)
+    : config_(config), tree_(std::make_unique<octomap::ColorOcTree>(config.octomap_resolution)) {
+  tree_->setProbHit(config.octomap_hit);
+  tree_->setProbMiss(config.octomap_miss);
+  tree_->setClampingThresMin(config.octomap_clamp_min);
+  tree_->setClampingThresMax(config.octomap_clamp_max);
+}
+
+OctoMapBuilder::~OctoMapBuilder() = default;
+
+void OctoMapBuilder::Insert(const std::vector<ColoredPoint>& surface_c, const std::vector<ColoredPoint>& rays_c,
+                            const SE3& T_w_c) {
+  const Eigen::Vector3d o_w = T_w_c.translation();
+  const octomap::point3d origin(static_cast<float>(o_w.x()), static_cast<float>(o_w.y()), static_cast<float>(o_w.z()));
+  const auto to_point = [&](const ColoredPoint& c) {
+    const Eigen::Vector3d p = T_w_c * c.p.cast<double>();
+    return octomap::point3d(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+  };
+  // One update per voxel and keyframe, as OctoMap's discretised insertion does: the
+  // surface voxels are hits; the voxels the rays cross before them are misses.
+  octomap::KeySet occupied, free;
+  std::vector<std::pair<octomap::OcTreeKey, Rgb>> colours;
+  for (const ColoredPoint& c : surface_c) {
+    octomap::OcTreeKey key;
+    if (!tree_->coordToKeyChecked(to_point(c), key)) continue;
+    if (occupied.insert(key).second) colours.emplace_back(key, c.rgb);
+  }
+  octomap::KeyRay ray;
+  for (const ColoredPoint& c : rays_c) {
+    if (!tree_->computeRayKeys(origin, to_point(c), ray)) continue;
+    for (const octomap::OcTreeKey& key : ray) free.insert(key);  // the end voxel is not in the ray
+  }
+  for (const octomap::OcTreeKey& key : free) {
+    if (!occupied.count(key)) tree_->updateNode(key, false, /*lazy_eval=*/true);
+  }
+  for (const octomap::OcTreeKey& key : occupied) tree_->updateNode(key, true, /*lazy_eval=*/true);
+  for (const auto& [key, c] : colours) tree_->integrateNodeColor(key, c[0], c[1], c[2]);
+  dirty_ = true;
+}
+
+void OctoMapBuilder::Finalize() {
+  if (!dirty_) return;
+  tree_->updateInnerOccupancy();
+  tree_->prune();  // merges uniform (mostly free) regions: memory proportional to surfaces
+  dirty_ = false;
+}
+
+bool OctoMapBuilder::IsFree(const Eigen::Vector3d& p_w) const {
+  const octomap::ColorOcTreeNode* node =
+      tree_->search(static_cast<double>(p_w.x()), static_cast<double>(p_w.y()), static_cast<double>(p_w.z()));
+  return node != nullptr && !tree_->isNodeOccupied(node);
+}
+
+std::size_t OctoMapBuilder::OccupiedLeaves() const {
+  std::size_t n = 0;
+  for (auto it = tree_->begin_leafs(), end = tree_->end_leafs(); it != end; ++it) {
+    if (tree_->isNodeOccupied(*it)) ++n;
+  }
+  return n;
+}
+
+void OctoMapBuilder::Write(const std::filesystem::path& path) {
+  Finalize();
+  const std::filesystem::path tmp = path.string() + ".tmp";
+  bool ok = false;
+  {
+    const MutedStderr quiet;
+    ok = tree_->writeBinaryConst(tmp.string());
+  }
+  if (!ok) throw InputError("cannot write the OctoMap to " + tmp.string());
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) throw InputError("cannot rename " + tmp.string() + " to " + path.string() + ": " + ec.message());
+}
+
+}  // namespace sgslam

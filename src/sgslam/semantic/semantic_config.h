@@ -1,0 +1,74 @@
+// Configuration of the semantic mapping thread (paper Sec. III-E): the static dense
+// cloud, the OctoMap and the database of 3-D semantic objects built from keyframes.
+// Defaults: depth range, box shrink and OctoMap sensor model as in the authors'
+// release (reference-notes.md); strides and voxel sizes chosen so that a keyframe
+// costs tens of milliseconds on one core here.
+#pragma once
+
+#include <string>
+
+#include "sgslam/config/checker.h"
+
+namespace sgslam {
+
+struct SemanticConfig {
+  bool enabled = true;          // build cloud.ply, octomap.bt and objects.json
+  int queue_size = 8;           // keyframes waiting for the semantic thread; tracking never waits (oldest dropped)
+  double depth_min = 0.5;       // m, depths used for the cloud, the OctoMap and objects
+  double depth_max = 5.0;       // m
+  int cloud_stride = 3;         // px, pixel step when back-projecting a keyframe's depth
+  double cloud_voxel = 0.02;    // m, voxel side of the dense cloud (per keyframe and on export)
+  double box_margin = 0.05;     // share of the box size added on each side of dynamic boxes before masking
+  int motion_radius = 25;       // px, pixels around a rejected keypoint outside boxes that may be masked
+  double motion_depth_band = 0.15;  // m, ... when their depth is within this of the keypoint's
+  bool free_space_filter = true;    // drop cloud points whose OctoMap voxel ended up free (moved away)
+  // OctoMap (ColorOcTree), sensor model of the release.
+  double octomap_resolution = 0.03;  // m
+  double octomap_hit = 0.7;          // probability of a hit
+  double octomap_miss = 0.4;         // probability of a miss (free ray)
+  double octomap_clamp_min = 0.12;   // probability
+  double octomap_clamp_max = 0.97;   // probability
+  int octomap_stride = 16;           // px, pixel step of the free-space rays cast per keyframe (hits: every cloud point)
+  // 3-D semantic objects.
+  double object_box_shrink = 0.6;    // share of the box (centred) whose depths form the object
+  double object_mad_factor = 3.0;    // depths further than this many MADs from the median are dropped
+  int object_min_points = 30;        // depth samples needed for an observation
+  int object_max_points = 400;       // samples kept per observation (anchored to its keyframe)
+  double object_min_score = 0.3;     // detections below this score are not used for objects
+  double object_merge_iou = 0.1;     // 3-D IoU above which an observation joins an object of its class
+  double object_merge_margin = 0.1;  // m, association boxes are grown by this for the centre-inside test
+  int object_border = 3;             // px, a box this close to the image edge is cut off: it may join an object, not start one
+  int object_min_observations = 2;   // objects seen fewer times are not exported (one view is too little evidence)
+
+  template <class V>
+  void Visit(V&& v) {
+    v("enabled", enabled, "build cloud, OctoMap and objects");
+    v("queue_size", queue_size, "keyframes queued for the semantic thread");
+    v("depth_min", depth_min, "m, valid depth range");
+    v("depth_max", depth_max, "m, valid depth range");
+    v("cloud_stride", cloud_stride, "px, back-projection pixel step");
+    v("cloud_voxel", cloud_voxel, "m, dense cloud voxel side");
+    v("box_margin", box_margin, "share of box size added around dynamic boxes");
+    v("motion_radius", motion_radius, "px, mask radius around rejected keypoints outside boxes");
+    v("motion_depth_band", motion_depth_band, "m, depth band of that mask");
+    v("free_space_filter", free_space_filter, "drop cloud points in voxels the OctoMap saw free");
+    v("octomap_resolution", octomap_resolution, "m, OctoMap voxel side");
+    v("octomap_hit", octomap_hit, "probability of a hit");
+    v("octomap_miss", octomap_miss, "probability of a miss");
+    v("octomap_clamp_min", octomap_clamp_min, "probability");
+    v("octomap_clamp_max", octomap_clamp_max, "probability");
+    v("octomap_stride", octomap_stride, "px, pixel step of inserted rays");
+    v("object_box_shrink", object_box_shrink, "share of the box used for objects");
+    v("object_mad_factor", object_mad_factor, "depth outlier limit in MADs");
+    v("object_min_points", object_min_points, "depth samples for an observation");
+    v("object_max_points", object_max_points, "samples kept per observation");
+    v("object_min_score", object_min_score, "detection score for objects");
+    v("object_merge_iou", object_merge_iou, "3-D IoU to merge an observation");
+    v("object_merge_margin", object_merge_margin, "m, association box growth");
+    v("object_border", object_border, "px, boxes this close to the edge only join objects");
+    v("object_min_observations", object_min_observations, "observations to export an object");
+  }
+  void Validate(ConfigChecker& c) const;
+};
+
+}  // namespace sgslam

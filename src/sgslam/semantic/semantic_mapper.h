@@ -1,0 +1,116 @@
+// The semantic mapping thread (paper Fig. 1, Sec. III-E): fed with keyframes once
+// local mapping has refined them (pose, colour and depth images, detections, the
+// per-keypoint static/dynamic labels of tracking), it builds
+//  - a static dense cloud: each keyframe's depth back-projected without its dynamic
+//    pixels (dynamic_mask.h), voxel-downsampled and kept in the keyframe's frame, so
+//    that export composes it with the keyframe's final pose;
+//  - the OctoMap (octomap_builder.h), updated incrementally per keyframe;
+//  - the database of 3-D semantic objects (objects.h).
+//
+// Threading: Submit() is called by one producer (local mapping, or the only thread
+// in sequential mode) and never blocks: when queue_size keyframes wait, the oldest
+// is dropped and counted. The worker takes Map::mutex() shared only to read poses,
+// never while holding its own mutex. Finish() drains the queue and joins; the
+// export functions are called after Finish(), under the caller's shared map lock.
+#pragma once
+
+#include <condition_variable>
+#include <deque>
+#include <functional>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include <opencv2/core.hpp>
+
+#include "sgslam/common/time.h"
+#include "sgslam/config/config.h"
+#include "sgslam/semantic/cloud.h"
+#include "sgslam/semantic/objects.h"
+#include "sgslam/semantic/octomap_builder.h"
+
+namespace sgslam {
+
+class Camera;
+class KeyFrame;
+class Map;
+
+struct SemanticInput {
+  std::shared_ptr<KeyFrame> keyframe;
+  cv::Mat bgr;    // the keyframe's colour image (shared, never written)
+  cv::Mat depth;  // raw 16-bit depth
+};
+
+struct SemanticStats {
+  std::size_t keyframes = 0, dropped = 0;
+  std::vector<double> ms;  // per processed keyframe: mask + cloud + OctoMap + objects
+  double median_mask_ms = 0, median_cloud_ms = 0, median_octomap_ms = 0, median_objects_ms = 0;
+  std::size_t cloud_points = 0, cloud_points_freed = 0;  // exported, and removed by the free-space filter
+};
+
+// T_c_w of a keyframe now; culled ones are placed through the parents they had.
+// Call under Map::mutex() (shared).
+SE3 CurrentT_c_w(const KeyFrame& keyframe);
+
+class SemanticMapper {
+ public:
+  SemanticMapper(const Config& config, const Map& map, bool sequential);
+  ~SemanticMapper();
+  SemanticMapper(const SemanticMapper&) = delete;
+  SemanticMapper& operator=(const SemanticMapper&) = delete;
+
+  void Submit(SemanticInput input);
+  void Finish();
+
+  // After Finish(), under the map's shared lock.
+  void ExportCloud(std::vector<Eigen::Vector3d>& points, std::vector<Rgb>& colours);
+  // T_out_w: the frame to express the objects in (boxes are axis-aligned in it).
+  std::vector<ObjectEstimate> ExportObjects(const SE3& T_out_w = SE3()) const;
+  OctoMapBuilder& octomap() { return octomap_; }
+  const OctoMapBuilder& octomap() const { return octomap_; }
+  SemanticStats stats() const;
+
+  // Against ground-truth dynamic masks (mask_of: the mask of a timestamp, empty when
+  // none): how many points of the exported cloud come from moving pixels, each
+  // re-projected into the keyframe it came from. After ExportCloud().
+  struct CloudTruth {
+    std::size_t keyframes = 0, points = 0, moving = 0;
+  };
+  CloudTruth ScoreCloud(const std::function<cv::Mat(Timestamp)>& mask_of) const;
+
+ private:
+  void Loop();
+  void ProcessKeyFrame(const SemanticInput& input);
+
+  const Config config_;
+  const Map& map_;
+  const bool sequential_;
+  std::shared_ptr<const Camera> camera_;
+  PixelRays rays_;
+  ClassTable classes_;
+
+  struct KeyFrameCloud {
+    std::shared_ptr<KeyFrame> keyframe;
+    std::vector<ColoredPoint> points_c;
+  };
+  // Owned by the worker until Finish() (then by the exporting caller).
+  std::vector<KeyFrameCloud> clouds_;
+  OctoMapBuilder octomap_;
+  ObjectDatabase objects_;
+
+  mutable std::mutex mutex_;  // guards queue_, stats_, stop_
+  std::condition_variable wake_;
+  std::deque<SemanticInput> queue_;
+  mutable SemanticStats stats_;
+  struct StageMs {
+    double mask, cloud, octomap, objects;
+  };
+  std::vector<StageMs> stage_ms_;  // guarded by mutex_
+  bool stop_ = false;
+  bool finished_ = false;
+  std::thread thread_;
+};
+
+}  // namespace sgslam
