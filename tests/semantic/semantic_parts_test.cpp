@@ -1,0 +1,170 @@
+// The pieces of the semantic map on small synthetic inputs with known answers.
+#include <gtest/gtest.h>
+
+#include <octomap/OcTree.h>
+
+#include "sgslam/camera/camera.h"
+#include "sgslam/common/error.h"
+#include "sgslam/config/config.h"
+#include "sgslam/semantic/cloud.h"
+#include "sgslam/semantic/dynamic_mask.h"
+#include "sgslam/semantic/objects.h"
+#include "sgslam/semantic/octomap_builder.h"
+#include "support/test_support.h"
+
+namespace sgslam {
+namespace {
+
+CameraConfig Pinhole() {
+  CameraConfig c;
+  c.fx = c.fy = 500;
+  c.cx = 319.5;
+  c.cy = 239.5;
+  c.k1 = c.k2 = c.p1 = c.p2 = c.k3 = 0;
+  return c;
+}
+
+// A wall at 4 m with a box face at 2 m covering pixels [200, 300) x [150, 330).
+cv::Mat BoxBeforeWall() {
+  cv::Mat d(480, 640, CV_16UC1, cv::Scalar(4 * 5000));
+  d(cv::Rect(200, 150, 100, 180)).setTo(2 * 5000);
+  return d;
+}
+
+TEST(VoxelDownsample, OnePointPerVoxelAtTheMean) {
+  const std::vector<ColoredPoint> in = {{{0.01f, 0.01f, 0.01f}, {0, 0, 0}},
+                                        {{0.03f, 0.01f, 0.01f}, {100, 50, 10}},
+                                        {{0.51f, 0.0f, 0.0f}, {7, 7, 7}}};
+  const auto out = VoxelDownsample(in, 0.1);
+  ASSERT_EQ(out.size(), 2u);
+  EXPECT_NEAR(out[0].p.x(), 0.02f, 1e-6);
+  EXPECT_EQ(out[0].rgb, (Rgb{50, 25, 5}));
+  EXPECT_NEAR(out[1].p.x(), 0.51f, 1e-6);
+}
+
+TEST(BackProject, PixelsLandOnTheirDepthAndMaskedOnesAreLeftOut) {
+  const Camera cam(Pinhole());
+  const PixelRays rays(cam);
+  const cv::Mat depth = BoxBeforeWall();
+  cv::Mat mask = cv::Mat::zeros(depth.size(), CV_8UC1);
+  mask(cv::Rect(200, 150, 100, 180)).setTo(255);
+  SemanticConfig c;
+  const auto all = BackProject(cv::Mat(), depth, 5000, cv::Mat(), rays, 4, c);
+  const auto kept = BackProject(cv::Mat(), depth, 5000, mask, rays, 4, c);
+  EXPECT_EQ(all.size(), 160u * 120u);
+  EXPECT_EQ(all.size() - kept.size(), 25u * 45u);
+  for (const auto& p : kept) EXPECT_NEAR(p.p.z(), 4.0f, 1e-6);
+  c.depth_max = 3.0;  // the wall is out of range now
+  EXPECT_EQ(BackProject(cv::Mat(), depth, 5000, cv::Mat(), rays, 4, c).size(), 25u * 45u);
+}
+
+TEST(DynamicPixelMask, PersonBoxesAndRejectedKeypointsButNotChairs) {
+  DetectorConfig dc;
+  const ClassTable classes(dc);
+  const cv::Mat depth = BoxBeforeWall();
+  SemanticConfig c;
+  c.box_margin = 0.1;
+  Detection person{0, "person", 0.9f, cv::Rect2f(400, 100, 100, 200)};
+  Detection chair{56, "chair", 0.9f, cv::Rect2f(20, 20, 50, 50)};
+  // A rejected keypoint on the box face (2 m) outside any box: only the 2 m pixels
+  // within the radius are masked, not the wall around.
+  const std::vector<cv::KeyPoint> keys = {cv::KeyPoint(250, 240, 7), cv::KeyPoint(100, 400, 7)};
+  const std::vector<std::uint8_t> rejected = {1, 0};
+  const cv::Mat m = DynamicPixelMask(depth, 5000, {person, chair}, classes, keys, rejected, c);
+  EXPECT_EQ(m.at<std::uint8_t>(100, 450), 255);  // person box
+  EXPECT_EQ(m.at<std::uint8_t>(95, 450), 255);   // its margin
+  EXPECT_EQ(m.at<std::uint8_t>(40, 40), 0);      // chair: a static class
+  EXPECT_EQ(m.at<std::uint8_t>(240, 260), 255);  // near the rejected keypoint, same depth
+  EXPECT_EQ(m.at<std::uint8_t>(240, 305), 0);    // within the radius, but the wall behind
+  EXPECT_EQ(m.at<std::uint8_t>(400, 100), 0);    // kept keypoint
+}
+
+TEST(ObserveObject, TakesTheObjectDepthsOfTheWholeBox) {
+  const Camera cam(Pinhole());
+  const PixelRays rays(cam);
+  SemanticConfig c;
+  // The box is drawn 20 px larger than the object on every side: wall in its border.
+  const Detection d{56, "chair", 0.8f, cv::Rect2f(180, 130, 140, 220)};
+  const auto obs = ObserveObject(d, BoxBeforeWall(), 5000, rays, c);
+  ASSERT_TRUE(obs.has_value());
+  EXPECT_GE(static_cast<int>(obs->points_c.size()), c.object_min_points);
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e9), hi = -lo;
+  for (const auto& p : obs->points_c) {
+    EXPECT_NEAR(p.z(), 2.0f, 1e-4);
+    lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  }
+  // The object spans 100 x 180 px at 2 m: 0.4 x 0.72 m, sampled to a few cm.
+  EXPECT_NEAR(hi.x() - lo.x(), 0.4, 0.05);
+  EXPECT_NEAR(hi.y() - lo.y(), 0.72, 0.05);
+  // Too small a box: too few depth samples, no observation.
+  EXPECT_FALSE(ObserveObject({56, "chair", 0.8f, cv::Rect2f(10, 10, 4, 4)}, BoxBeforeWall(), 5000, rays, c));
+}
+
+TEST(ObjectDatabase, MergesViewsOfOneObjectAndKeepsOthersApart) {
+  SemanticConfig c;
+  ObjectDatabase db(c, nullptr, {640, 480});
+  const auto cube = [](const Eigen::Vector3f& centre, float side) {
+    ObjectObservation o;
+    o.class_id = 56;
+    o.class_name = "chair";
+    o.score = 0.9f;
+    for (int i = 0; i < 10; ++i)
+      for (int j = 0; j < 10; ++j)
+        for (int k = 0; k < 10; ++k) o.points_c.push_back(centre + side * (Eigen::Vector3f(i, j, k) / 9.0f - Eigen::Vector3f::Constant(0.5f)));
+    return o;
+  };
+  const int a = db.Add(cube({1, 0, 2}, 0.5f), SE3());
+  EXPECT_EQ(db.Add(cube({1.05f, 0, 2}, 0.5f), SE3()), a);  // the same chair, seen again
+  ObjectObservation table = cube({1, 0, 2}, 0.5f);
+  table.class_name = "diningtable";
+  table.class_id = 60;
+  EXPECT_NE(db.Add(table, SE3()), a);                 // another class
+  EXPECT_NE(db.Add(cube({3, 0, 2}, 0.5f), SE3()), a);  // another chair, 2 m away
+  EXPECT_EQ(db.Add(cube({6, 0, 2}, 0.5f), SE3(), /*may_create=*/false), 0);  // a cut-off view starts nothing
+  const auto est = db.Estimate([](const KeyFrame&) { return SE3(); });
+  ASSERT_EQ(est.size(), 3u);
+  EXPECT_TRUE(est[0].exported);
+  EXPECT_EQ(est[0].observations, 2);
+  EXPECT_NEAR(est[0].centroid.x(), 1.025, 0.02);
+  EXPECT_NEAR(est[0].size.y(), 0.5, 0.03);
+  EXPECT_FALSE(est[1].exported);  // seen once
+  EXPECT_GT(est[0].confidence, est[1].confidence);
+}
+
+TEST(OctoMapBuilder, WallIsOccupiedTheSpaceBeforeItFreeAndTheFileReloads) {
+  SemanticConfig c;
+  OctoMapBuilder map(c);
+  std::vector<ColoredPoint> wall;
+  for (int i = -20; i <= 20; ++i)
+    for (int j = -20; j <= 20; ++j) wall.push_back({{0.02f * i, 0.02f * j, 3.0f}, {200, 10, 10}});
+  map.Insert(wall, wall, SE3());
+  map.Finalize();
+  EXPECT_GT(map.OccupiedLeaves(), 100u);
+  EXPECT_TRUE(map.IsFree({0.0, 0.0, 1.5}));
+  EXPECT_FALSE(map.IsFree({0.0, 0.0, 3.0}));
+  EXPECT_FALSE(map.IsFree({5.0, 5.0, 5.0}));  // never observed: unknown, not free
+  test::TempDir dir;
+  map.Write(dir / "wall.bt");
+  octomap::OcTree back(0.1);
+  ASSERT_TRUE(back.readBinary((dir / "wall.bt").string()));
+  std::size_t occupied = 0;
+  for (auto it = back.begin_leafs(); it != back.end_leafs(); ++it) occupied += back.isNodeOccupied(*it);
+  EXPECT_EQ(occupied, map.OccupiedLeaves());
+  EXPECT_THROW(map.Write(dir / "missing" / "x.bt"), InputError);
+}
+
+TEST(SemanticConfig, BadValuesNameTheirKey) {
+  Config c;
+  c.semantic.octomap_hit = 0.3;
+  c.semantic.depth_max = 0.1;
+  try {
+    c.Validate("test.yaml");
+    FAIL() << "no error";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("semantic.octomap_hit = 0.3"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("semantic.depth_max"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace sgslam
