@@ -80,6 +80,11 @@ void OctoMapBuilder::Insert(const std::vector<ColoredPoint>& surface_c, const st
   dirty_ = true;
 }
 
+void OctoMapBuilder::Clear() {
+  tree_->clear();
+  dirty_ = false;
+}
+
 void OctoMapBuilder::Finalize() {
   if (!dirty_) return;
   tree_->updateInnerOccupancy();

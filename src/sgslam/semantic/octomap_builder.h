@@ -35,6 +35,8 @@ class OctoMapBuilder {
   void Insert(const std::vector<ColoredPoint>& surface_c, const std::vector<ColoredPoint>& rays_c, const SE3& T_w_c);
   // Updates inner nodes and prunes; Write() and the queries need it after inserts.
   void Finalize();
+  // Forgets everything (same settings).
+  void Clear();
   // The voxel at p_w was observed and its occupancy ended below 0.5.
   bool IsFree(const Eigen::Vector3d& p_w) const;
   std::size_t OccupiedLeaves() const;

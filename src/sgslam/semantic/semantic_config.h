@@ -22,6 +22,15 @@ struct SemanticConfig {
   int motion_radius = 25;       // px, pixels around a rejected keypoint outside boxes that may be masked
   double motion_depth_band = 0.15;  // m, ... when their depth is within this of the keypoint's
   bool free_space_filter = true;    // drop cloud points whose OctoMap voxel ended up free (moved away)
+  // Multi-view consistency on export: a cloud point that other keyframes see
+  // through (their depth at its pixel is clearly behind it) was something that
+  // moved away; it is dropped, and the OctoMap is rebuilt from what remains with
+  // the final keyframe poses.
+  bool consistency_filter = true;
+  double consistency_tolerance = 0.05;            // m, plus the quadratic term below
+  double consistency_tolerance_quadratic = 0.01;  // 1/m, times depth^2 (depth noise grows with depth^2)
+  int consistency_min_votes = 2;                  // keyframes that must see through a point to drop it
+  int consistency_pool = 4;                       // px, keyframe depth kept min-pooled by this factor
   // OctoMap (ColorOcTree), sensor model of the release.
   double octomap_resolution = 0.03;  // m
   double octomap_hit = 0.7;          // probability of a hit
@@ -52,6 +61,11 @@ struct SemanticConfig {
     v("motion_radius", motion_radius, "px, mask radius around rejected keypoints outside boxes");
     v("motion_depth_band", motion_depth_band, "m, depth band of that mask");
     v("free_space_filter", free_space_filter, "drop cloud points in voxels the OctoMap saw free");
+    v("consistency_filter", consistency_filter, "drop cloud points other keyframes see through; rebuild the OctoMap");
+    v("consistency_tolerance", consistency_tolerance, "m, depth margin of the see-through test");
+    v("consistency_tolerance_quadratic", consistency_tolerance_quadratic, "1/m, extra margin times depth^2");
+    v("consistency_min_votes", consistency_min_votes, "keyframes seeing through a point to drop it");
+    v("consistency_pool", consistency_pool, "px, min-pooling factor of the kept keyframe depth");
     v("octomap_resolution", octomap_resolution, "m, OctoMap voxel side");
     v("octomap_hit", octomap_hit, "probability of a hit");
     v("octomap_miss", octomap_miss, "probability of a miss");

@@ -20,6 +20,29 @@ SE3 CurrentT_c_w(const KeyFrame& keyframe) {
   return T_c_r * ref->T_c_w();
 }
 
+namespace {
+
+// Min over factor x factor blocks of the valid depths (m), 0 where a block has none:
+// the nearest surface, so a see-through test never fires at a depth edge.
+cv::Mat MinPooledDepth(const cv::Mat& depth_raw, double depth_factor, int factor) {
+  cv::Mat out = cv::Mat::zeros(depth_raw.rows / factor, depth_raw.cols / factor, CV_32F);
+  for (int y = 0; y < out.rows; ++y) {
+    for (int x = 0; x < out.cols; ++x) {
+      std::uint16_t best = 0;
+      for (int dy = 0; dy < factor; ++dy) {
+        const std::uint16_t* row = depth_raw.ptr<std::uint16_t>(y * factor + dy) + x * factor;
+        for (int dx = 0; dx < factor; ++dx) {
+          if (row[dx] != 0 && (best == 0 || row[dx] < best)) best = row[dx];
+        }
+      }
+      out.at<float>(y, x) = static_cast<float>(best / depth_factor);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 SemanticMapper::SemanticMapper(const Config& config, const Map& map, bool sequential)
     : config_(config),
       map_(map),
@@ -95,16 +118,20 @@ void SemanticMapper::ProcessKeyFrame(const SemanticInput& input) {
   ms.mask = stage.ElapsedMs();
 
   stage.Restart();
-  clouds_.push_back({input.keyframe, VoxelDownsample(BackProject(input.bgr, input.depth, config_.camera.depth_factor,
-                                                                 mask, rays_, c.cloud_stride, c),
-                                                     c.cloud_voxel)});
+  KeyFrameCloud cloud;
+  cloud.keyframe = input.keyframe;
+  cloud.points_c = VoxelDownsample(
+      BackProject(input.bgr, input.depth, config_.camera.depth_factor, mask, rays_, c.cloud_stride, c), c.cloud_voxel);
+  if (c.consistency_filter) cloud.depth_pooled = MinPooledDepth(input.depth, config_.camera.depth_factor, c.consistency_pool);
   ms.cloud = stage.ElapsedMs();
 
   stage.Restart();
-  octomap_.Insert(clouds_.back().points_c,
-                  BackProject(input.bgr, input.depth, config_.camera.depth_factor, mask, rays_, c.octomap_stride, c),
-                  T_w_c);
+  std::vector<ColoredPoint> ray_points =
+      BackProject(input.bgr, input.depth, config_.camera.depth_factor, mask, rays_, c.octomap_stride, c);
+  octomap_.Insert(cloud.points_c, ray_points, T_w_c);
   ms.octomap = stage.ElapsedMs();
+  clouds_.push_back(std::move(cloud));
+  ray_points_.push_back(std::move(ray_points));
 
   stage.Restart();
   for (const Detection& d : f.detections) {
@@ -126,8 +153,55 @@ void SemanticMapper::ProcessKeyFrame(const SemanticInput& input) {
   stage_ms_.push_back(ms);
 }
 
-void SemanticMapper::ExportCloud(std::vector<Eigen::Vector3d>& points, std::vector<Rgb>& colours) {
+void SemanticMapper::FilterAndRebuild() {
+  if (filtered_) return;
+  filtered_ = true;
+  const SemanticConfig& c = config_.semantic;
+  if (!c.consistency_filter) {
+    octomap_.Finalize();
+    return;
+  }
+  std::vector<SE3> T_c_w(clouds_.size()), T_w_c(clouds_.size());
+  for (std::size_t k = 0; k < clouds_.size(); ++k) {
+    T_c_w[k] = CurrentT_c_w(*clouds_[k].keyframe);
+    T_w_c[k] = T_c_w[k].Inverse();
+  }
+  const double pool = c.consistency_pool;
+  for (std::size_t i = 0; i < clouds_.size(); ++i) {
+    std::vector<ColoredPoint> kept;
+    kept.reserve(clouds_[i].points_c.size());
+    for (const ColoredPoint& p : clouds_[i].points_c) {
+      const Eigen::Vector3d x = T_w_c[i] * p.p.cast<double>();
+      int through = 0;
+      for (std::size_t j = 0; j < clouds_.size() && through < c.consistency_min_votes; ++j) {
+        if (j == i || clouds_[j].depth_pooled.empty()) continue;
+        const Eigen::Vector3d q = T_c_w[j] * x;
+        if (q.z() < c.depth_min || q.z() > c.depth_max) continue;
+        const Eigen::Vector2d uv = camera_->Distort(camera_->Project(q));
+        const int u = static_cast<int>(uv.x() / pool), v = static_cast<int>(uv.y() / pool);
+        const cv::Mat& d = clouds_[j].depth_pooled;
+        if (uv.x() < 0 || uv.y() < 0 || u >= d.cols || v >= d.rows) continue;
+        const float z = d.at<float>(v, u);
+        const double tolerance = c.consistency_tolerance + c.consistency_tolerance_quadratic * q.z() * q.z();
+        if (z > 0 && z > q.z() + tolerance) ++through;  // keyframe j sees what lies behind the point
+      }
+      if (through >= c.consistency_min_votes) {
+        ++inconsistent_;
+      } else {
+        kept.push_back(p);
+      }
+    }
+    clouds_[i].points_c.swap(kept);
+  }
+  // The live OctoMap saw the moving points too, with the poses of the time: build
+  // it again from the consistent points and the final poses.
+  octomap_.Clear();
+  for (std::size_t i = 0; i < clouds_.size(); ++i) octomap_.Insert(clouds_[i].points_c, ray_points_[i], T_w_c[i]);
   octomap_.Finalize();
+}
+
+void SemanticMapper::ExportCloud(std::vector<Eigen::Vector3d>& points, std::vector<Rgb>& colours) {
+  FilterAndRebuild();
   std::vector<ColoredPoint> world;
   for (const KeyFrameCloud& k : clouds_) {
     const SE3 T_w_c = CurrentT_c_w(*k.keyframe).Inverse();

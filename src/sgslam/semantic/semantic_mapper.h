@@ -66,6 +66,7 @@ class SemanticMapper {
 
   // After Finish(), under the map's shared lock.
   void ExportCloud(std::vector<Eigen::Vector3d>& points, std::vector<Rgb>& colours);
+  std::size_t inconsistent_points() const { return inconsistent_; }
   // T_out_w: the frame to express the objects in (boxes are axis-aligned in it).
   std::vector<ObjectEstimate> ExportObjects(const SE3& T_out_w = SE3()) const;
   OctoMapBuilder& octomap() { return octomap_; }
@@ -94,7 +95,14 @@ class SemanticMapper {
   struct KeyFrameCloud {
     std::shared_ptr<KeyFrame> keyframe;
     std::vector<ColoredPoint> points_c;
+    cv::Mat depth_pooled;  // m (CV_32F), min over consistency_pool^2 pixels of valid depth; 0 = none
   };
+  // Drops the points other keyframes see through (consistency_filter) and rebuilds
+  // the OctoMap from the rest with the current poses; once, on first export.
+  void FilterAndRebuild();
+  bool filtered_ = false;
+  std::size_t inconsistent_ = 0;
+  std::vector<std::vector<ColoredPoint>> ray_points_;  // per cloud: the free-space ray ends, for the rebuild
   // Owned by the worker until Finish() (then by the exporting caller).
   std::vector<KeyFrameCloud> clouds_;
   OctoMapBuilder octomap_;
