@@ -172,11 +172,20 @@ TEST(Motion, DepthCheckWithPnpMotionCatchesMoversOnTheFr1Lens) {
               t.static_rejected, t.statics);
   EXPECT_GE(t.moving_rejected, 90);  // 3 cm at 1-5 m: 3-15 px, above the 3 px tolerance
   EXPECT_EQ(t.static_rejected, 0);
-  // The tracker's pose instead (here the identity, a bad prediction): it flags all.
+  EXPECT_FALSE(r.depth_ignored);
+  // The tracker's pose instead (here the identity, a bad prediction): the check
+  // would flag nearly everything, so it is ignored for the frame...
   c.depth_motion = "tracker";
   const RejectionResult bad = JudgePairs(Pairs(s, true), Keys(s), {}, {}, c, &depth);
   EXPECT_FALSE(bad.motion);
-  EXPECT_GT(Count(s, bad).static_rejected, 200);
+  EXPECT_TRUE(bad.depth_ignored);
+  EXPECT_EQ(Count(s, bad).static_rejected, 0);
+  EXPECT_EQ(bad.rejected_depth, 0);
+  // ... unless the share limit is lifted.
+  c.depth_max_share = 1.0;
+  const RejectionResult trusted = JudgePairs(Pairs(s, true), Keys(s), {}, {}, c, &depth);
+  EXPECT_FALSE(trusted.depth_ignored);
+  EXPECT_GT(Count(s, trusted).static_rejected, 200);
 }
 
 TEST(Motion, PriorCellsAreLeftOutOfTheFits) {
@@ -230,9 +239,10 @@ TEST(Motion, ConfigChecksTheNewKeys) {
   DynamicConfig bad;
   bad.depth_motion = "imu";
   bad.prior_cell = -1;
+  bad.depth_max_share = 1.5;
   ConfigChecker c("dynamic");
   bad.Validate(c);
-  EXPECT_EQ(c.problems().size(), 2u);
+  EXPECT_EQ(c.problems().size(), 3u);
 }
 
 }  // namespace

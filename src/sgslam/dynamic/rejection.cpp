@@ -195,7 +195,19 @@ RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>
     if (in != nullptr) {
       const std::vector<DepthResidual> residuals =
           CheckDepth(flow.prev, pairs.cur, pairs.prev_un, pairs.cur_un, valid, *in, config);
-      for (size_t i = 0; i < keys.size(); ++i) moved[i] = residuals[i].valid && residuals[i].moved;
+      int checked = 0, flagged = 0;
+      for (size_t i = 0; i < keys.size(); ++i) {
+        moved[i] = residuals[i].valid && residuals[i].moved;
+        checked += residuals[i].valid;
+        flagged += moved[i];
+      }
+      // The scene is assumed mostly static (as RANSAC does): a check that flags
+      // most of it has a wrong motion (PnP on a large moving object, a bad
+      // prediction) and would keep the mover and drop the background.
+      if (flagged > config.depth_max_share * checked) {
+        std::fill(moved.begin(), moved.end(), false);
+        r.depth_ignored = true;
+      }
     }
   }
   r.ms.depth = stage.ElapsedMs();

@@ -19,7 +19,9 @@
 // the current frame's detections (the release tests the previous point against the
 // previous frame's boxes). With config.depth_check and a DepthCheckInput, pairs the
 // RGB-D check flags are rejected in geometric and sg modes whatever their w (the
-// check has its own noise model), and the fallback restores them last. With
+// check has its own noise model), and the fallback restores them last; a check
+// that flags more than config.depth_max_share of the pairs it could test is
+// ignored for the frame (its motion must be wrong). With
 // config.depth_motion = pnp the check uses the motion PnP RANSAC finds on the
 // pairs (motion.h, fitted on the same preferred pairs as F), else the tracker's.
 // Geometry (F, eq. 4, PnP, reprojection) uses undistorted pixels when an undistort
@@ -99,6 +101,7 @@ struct RejectionResult {
   int valid_pairs = 0;       // flow pairs that passed line 2
   std::optional<FundamentalEstimate> fundamental;
   std::optional<MotionEstimate> motion;  // PnP motion of the RGB-D check (depth_motion = pnp)
+  bool depth_ignored = false;            // the check flagged more than config.depth_max_share: ignored
   double eps_used = 0;  // px, eps_std after fallback relaxation
   int relax_steps = 0;  // fallback relaxation steps taken
   int restored = 0;     // keypoints kept by the fallback ranking (or by restore-all)
