@@ -53,6 +53,8 @@ TEST(Modes, FallbackRelaxesThenRestoresTheMostStaticLooking) {
   const Fixture& f = Data();
   const std::vector<Detection> everywhere = {Box("person", 0, 0, 640, 480)};
   DynamicConfig c;
+  c.eps_std = 1.0;  // d * 5 < 1 inside the image-wide box: most keypoints fail, the fallback has work
+  c.max_patch_difference = 12.0;
   c.min_kept_ratio = 0.9;
   RejectionResult r = RejectDynamicFeatures(f.pair.prev_gray, f.pair.cur_gray, f.keys, everywhere, Weight, c);
   const int min_kept = static_cast<int>(std::ceil(0.9 * static_cast<double>(f.keys.size())));

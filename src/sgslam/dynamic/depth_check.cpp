@@ -14,14 +14,26 @@ double DepthAt(const cv::Mat& depth, int x, int y, double depth_factor) {
 
 bool InRange(double z, const DynamicConfig& c) { return std::isfinite(z) && z >= c.depth_min && z <= c.depth_max; }
 
-Eigen::Vector2d Undistorted(const DepthCheckInput& in, cv::Point2f p) {
-  const Eigen::Vector2d raw(p.x, p.y);
-  return in.undistort ? in.undistort(raw) : raw;
+std::vector<cv::Point2f> Undistorted(const DepthCheckInput& in, const std::vector<cv::Point2f>& p) {
+  if (!in.undistort) return p;
+  std::vector<cv::Point2f> out(p.size());
+  for (size_t i = 0; i < p.size(); ++i) {
+    const Eigen::Vector2d u = in.undistort(Eigen::Vector2d(p[i].x, p[i].y));
+    out[i] = cv::Point2f(static_cast<float>(u.x()), static_cast<float>(u.y()));
+  }
+  return out;
 }
 
 }  // namespace
 
 std::vector<DepthResidual> CheckDepth(const std::vector<cv::Point2f>& prev, const std::vector<cv::Point2f>& cur,
+                                      const std::vector<bool>& use, const DepthCheckInput& input,
+                                      const DynamicConfig& config) {
+  return CheckDepth(prev, cur, Undistorted(input, prev), Undistorted(input, cur), use, input, config);
+}
+
+std::vector<DepthResidual> CheckDepth(const std::vector<cv::Point2f>& prev, const std::vector<cv::Point2f>& cur,
+                                      const std::vector<cv::Point2f>& prev_un, const std::vector<cv::Point2f>& cur_un,
                                       const std::vector<bool>& use, const DepthCheckInput& input,
                                       const DynamicConfig& config) {
   std::vector<DepthResidual> out(prev.size());
@@ -37,7 +49,7 @@ std::vector<DepthResidual> CheckDepth(const std::vector<cv::Point2f>& prev, cons
     if (x1 < 1 || y1 < 1 || x1 >= d1.cols - 1 || y1 >= d1.rows - 1) continue;
     const double z0 = DepthAt(d0, x0, y0, input.depth_factor);
     if (!InRange(z0, config)) continue;
-    const Eigen::Vector2d u0 = Undistorted(input, prev[i]);
+    const Eigen::Vector2d u0(prev_un[i].x, prev_un[i].y);
     const Eigen::Vector3d X_prev((u0.x() - K.cx) / K.fx * z0, (u0.y() - K.cy) / K.fy * z0, z0);
     const Eigen::Vector3d X_cur = input.T_cur_prev * X_prev;
     if (X_cur.z() < config.depth_min) continue;
@@ -55,7 +67,7 @@ std::vector<DepthResidual> CheckDepth(const std::vector<cv::Point2f>& prev, cons
     r.valid = true;
     r.depth_error = best;
     const Eigen::Vector2d projected(K.fx * X_cur.x() / X_cur.z() + K.cx, K.fy * X_cur.y() / X_cur.z() + K.cy);
-    r.reprojection_error = (projected - Undistorted(input, cur[i])).norm();
+    r.reprojection_error = (projected - Eigen::Vector2d(cur_un[i].x, cur_un[i].y)).norm();
     const double z_tolerance = config.depth_tolerance + config.depth_tolerance_quadratic * X_cur.z() * X_cur.z();
     r.moved = r.depth_error > z_tolerance ||
               (config.reprojection_tolerance > 0 && r.reprojection_error > config.reprojection_tolerance);

@@ -54,4 +54,11 @@ std::vector<DepthResidual> CheckDepth(const std::vector<cv::Point2f>& prev, cons
                                       const std::vector<bool>& use, const DepthCheckInput& input,
                                       const DynamicConfig& config);
 
+// The same with the undistorted positions given (input.undistort is not used):
+// depth is sampled at prev_raw/cur_raw, the geometry uses prev_un/cur_un.
+std::vector<DepthResidual> CheckDepth(const std::vector<cv::Point2f>& prev_raw, const std::vector<cv::Point2f>& cur_raw,
+                                      const std::vector<cv::Point2f>& prev_un, const std::vector<cv::Point2f>& cur_un,
+                                      const std::vector<bool>& use, const DepthCheckInput& input,
+                                      const DynamicConfig& config);
+
 }  // namespace sgslam::dynamic

@@ -22,6 +22,12 @@ void DynamicConfig::Validate(ConfigChecker& c) const {
   c.InRange("min_kept_ratio", min_kept_ratio, 0.0, 1.0);
   c.InRange("relax_factor", relax_factor, 1.0, 10.0);
   c.InRange("relax_steps", relax_steps, 0, 20);
+  c.InRange("prior_cell", prior_cell, 0, 640);
+  c.Check(depth_motion == "pnp" || depth_motion == "tracker", "depth_motion", depth_motion, "must be pnp or tracker");
+  c.InRange("motion_threshold", motion_threshold, 0.1, 50.0);
+  c.InRange("motion_iterations", motion_iterations, 10, 100000);
+  c.InRange("motion_min_inliers", motion_min_inliers, 6, 100000);
+  c.InRange("depth_max_share", depth_max_share, 0.0, 1.0);
   c.InRange("depth_tolerance", depth_tolerance, 0.0, 10.0);
   c.InRange("depth_tolerance_quadratic", depth_tolerance_quadratic, 0.0, 1.0);
   c.InRange("reprojection_tolerance", reprojection_tolerance, 0.0, 1000.0);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <stdexcept>
 
 #include "sgslam/common/error.h"
 #include "sgslam/common/stats.h"
@@ -76,14 +77,59 @@ Mode ParseMode(const std::string& name) {
   throw ConfigError("dynamic.mode = " + name + ": must be none, semantic, geometric or sg");
 }
 
-RejectionResult RejectDynamicFeatures(const FlowFrame& prev, const FlowFrame& cur,
-                                      const std::vector<cv::KeyPoint>& keys, const std::vector<Detection>& detections,
-                                      const WeightFn& weight, const DynamicConfig& config,
-                                      const DepthCheckInput* depth) {
+bool DynamicPrior::Dynamic(cv::Point2f p) const {
+  if (cell <= 0 || dynamic.empty()) return false;
+  const int cx = static_cast<int>(p.x) / cell, cy = static_cast<int>(p.y) / cell;
+  if (p.x < 0 || p.y < 0 || cx >= dynamic.cols || cy >= dynamic.rows) return false;
+  return dynamic.at<uchar>(cy, cx) != 0;
+}
+
+DynamicPrior MakeDynamicPrior(const std::vector<cv::KeyPoint>& keys, const RejectionResult& result, cv::Size image,
+                              int cell) {
+  DynamicPrior prior;
+  if (cell <= 0 || keys.size() != result.keypoints.size()) return prior;
+  prior.cell = cell;
+  const int cols = (image.width + cell - 1) / cell, rows = (image.height + cell - 1) / cell;
+  cv::Mat votes(rows, cols, CV_32S, cv::Scalar(0));  // rejected minus kept
+  for (size_t i = 0; i < keys.size(); ++i) {
+    const int cx = static_cast<int>(keys[i].pt.x) / cell, cy = static_cast<int>(keys[i].pt.y) / cell;
+    if (keys[i].pt.x < 0 || keys[i].pt.y < 0 || cx >= cols || cy >= rows) continue;
+    votes.at<int>(cy, cx) += result.keypoints[i].kept ? -1 : 1;
+  }
+  prior.dynamic = votes > 0;
+  prior.dynamic /= 255;
+  return prior;
+}
+
+PairSet TrackPairs(const FlowFrame& prev, const FlowFrame& cur, const std::vector<cv::KeyPoint>& keys,
+                   const DynamicConfig& config, const UndistortPointsFn& undistort) {
+  const Stopwatch watch;
+  PairSet p;
+  p.cur.resize(keys.size());
+  std::transform(keys.begin(), keys.end(), p.cur.begin(), [](const cv::KeyPoint& k) { return k.pt; });
+  p.flow = TrackBackward(prev, cur, p.cur, config);  // lines 1-2
+  p.prev_un = p.flow.prev;
+  p.cur_un = p.cur;
+  if (undistort && config.undistort_pairs) {
+    // One call for both sets; failed pairs are undistorted too (cheap, unused).
+    std::vector<cv::Point2f> all(p.prev_un);
+    all.insert(all.end(), p.cur_un.begin(), p.cur_un.end());
+    undistort(all);
+    std::copy(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(keys.size()), p.prev_un.begin());
+    std::copy(all.begin() + static_cast<std::ptrdiff_t>(keys.size()), all.end(), p.cur_un.begin());
+  }
+  p.ms = watch.ElapsedMs();
+  return p;
+}
+
+RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>& keys,
+                           const std::vector<Detection>& detections, const WeightFn& weight,
+                           const DynamicConfig& config, const DepthCheckInput* depth, const DynamicPrior* prior) {
   const Stopwatch total;
   const Mode mode = ParseMode(config.mode);
   RejectionResult r;
   r.eps_used = config.eps_std;
+  r.ms.flow = pairs.ms;
   const std::vector<double> w = KeypointWeights(keys, detections, weight);
   r.keypoints.resize(keys.size());
   for (size_t i = 0; i < keys.size(); ++i) r.keypoints[i].weight = w[i];
@@ -99,43 +145,70 @@ RejectionResult RejectDynamicFeatures(const FlowFrame& prev, const FlowFrame& cu
       if (kept < min_kept && !v.kept) v.kept = true, v.why = Why::kFallback, ++r.restored;
     }
     Count(r);
-    r.ms.total = total.ElapsedMs();
+    r.ms.total = total.ElapsedMs() + pairs.ms;
     return r;
   }
+  if (pairs.cur.size() != keys.size()) throw std::invalid_argument("JudgePairs: one pair per keypoint");
+  const FlowPairs& flow = pairs.flow;
+  r.valid_pairs = flow.valid;
 
   Stopwatch stage;
-  std::vector<cv::Point2f> cur_points(keys.size());
-  std::transform(keys.begin(), keys.end(), cur_points.begin(), [](const cv::KeyPoint& k) { return k.pt; });
-  const FlowPairs flow = TrackBackward(prev, cur, cur_points, config);  // lines 1-2
-  r.valid_pairs = flow.valid;
-  r.ms.flow = stage.ElapsedMs();
-
-  stage.Restart();
   std::vector<Eigen::Vector2d> p1, p2;
-  std::vector<bool> preferred;  // sg: fit F on pairs outside dynamic boxes (the release's rule)
-  std::vector<bool> valid(keys.size());
+  std::vector<bool> preferred;  // fit F on pairs outside dynamic boxes (sg, the release's rule) and prior cells
+  std::vector<bool> valid(keys.size()), use_motion(keys.size(), false);
   for (size_t i = 0; i < keys.size(); ++i) {
     r.keypoints[i].pair = flow.status[i];
     r.keypoints[i].prev = flow.prev[i];
     valid[i] = flow.status[i] == PairStatus::kOk;
     if (!valid[i]) continue;
-    p1.emplace_back(flow.prev[i].x, flow.prev[i].y);
-    p2.emplace_back(cur_points[i].x, cur_points[i].y);
-    preferred.push_back(mode != Mode::kSg || w[i] <= 1.0);
+    p1.emplace_back(pairs.prev_un[i].x, pairs.prev_un[i].y);
+    p2.emplace_back(pairs.cur_un[i].x, pairs.cur_un[i].y);
+    const bool pref = (mode != Mode::kSg || w[i] <= 1.0) && !(prior != nullptr && prior->Dynamic(flow.prev[i]));
+    preferred.push_back(pref);
+    use_motion[i] = pref;
   }
   r.fundamental = EstimateFundamental(p1, p2, preferred, config);  // line 3
   if (r.fundamental) {
     for (size_t i = 0, k = 0; i < keys.size(); ++i) {
       if (valid[i]) r.keypoints[i].distance = EpipolarDistance(r.fundamental->F_cur_prev, p1[k], p2[k]), ++k;
     }
+    if (!r.fundamental->from_static) use_motion = valid;  // too few preferred pairs: all
   }
   r.ms.fundamental = stage.ElapsedMs();
 
   stage.Restart();
   std::vector<bool> moved(keys.size(), false);
   if (config.depth_check && depth != nullptr) {
-    const std::vector<DepthResidual> residuals = CheckDepth(flow.prev, cur_points, valid, *depth, config);
-    for (size_t i = 0; i < keys.size(); ++i) moved[i] = residuals[i].valid && residuals[i].moved;
+    std::optional<DepthCheckInput> with_motion;
+    const DepthCheckInput* in = depth;
+    if (config.depth_motion == "pnp") {
+      r.motion = EstimateMotion(flow.prev, pairs.prev_un, pairs.cur_un, use_motion, depth->prev_depth,
+                                depth->depth_factor, depth->K, config);
+      if (r.motion) {
+        with_motion = *depth;
+        with_motion->T_cur_prev = r.motion->T_cur_prev;
+        in = &*with_motion;
+      } else {
+        in = nullptr;  // no trustworthy motion: no check this frame
+      }
+    }
+    if (in != nullptr) {
+      const std::vector<DepthResidual> residuals =
+          CheckDepth(flow.prev, pairs.cur, pairs.prev_un, pairs.cur_un, valid, *in, config);
+      int checked = 0, flagged = 0;
+      for (size_t i = 0; i < keys.size(); ++i) {
+        moved[i] = residuals[i].valid && residuals[i].moved;
+        checked += residuals[i].valid;
+        flagged += moved[i];
+      }
+      // The scene is assumed mostly static (as RANSAC does): a check that flags
+      // most of it has a wrong motion (PnP on a large moving object, a bad
+      // prediction) and would keep the mover and drop the background.
+      if (flagged > config.depth_max_share * checked) {
+        std::fill(moved.begin(), moved.end(), false);
+        r.depth_ignored = true;
+      }
+    }
   }
   r.ms.depth = stage.ElapsedMs();
 
@@ -149,8 +222,18 @@ RejectionResult RejectDynamicFeatures(const FlowFrame& prev, const FlowFrame& cu
   if (kept < min_kept) r.restored = RestoreMostStatic(mode, min_kept - kept, r.keypoints);
   Count(r);
   r.ms.decide = stage.ElapsedMs();
-  r.ms.total = total.ElapsedMs();
+  r.ms.total = total.ElapsedMs() + pairs.ms;
   return r;
+}
+
+RejectionResult RejectDynamicFeatures(const FlowFrame& prev, const FlowFrame& cur,
+                                      const std::vector<cv::KeyPoint>& keys, const std::vector<Detection>& detections,
+                                      const WeightFn& weight, const DynamicConfig& config,
+                                      const DepthCheckInput* depth, const UndistortPointsFn& undistort) {
+  const Mode mode = ParseMode(config.mode);
+  PairSet pairs;
+  if (mode == Mode::kGeometric || mode == Mode::kSg) pairs = TrackPairs(prev, cur, keys, config, undistort);
+  return JudgePairs(pairs, keys, detections, weight, config, depth);
 }
 
 }  // namespace sgslam::dynamic

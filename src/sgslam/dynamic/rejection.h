@@ -19,8 +19,18 @@
 // the current frame's detections (the release tests the previous point against the
 // previous frame's boxes). With config.depth_check and a DepthCheckInput, pairs the
 // RGB-D check flags are rejected in geometric and sg modes whatever their w (the
-// check has its own noise model), and the fallback restores them last.
-// Thread safety: a free function on const inputs; deterministic for equal inputs.
+// check has its own noise model), and the fallback restores them last; a check
+// that flags more than config.depth_max_share of the pairs it could test is
+// ignored for the frame (its motion must be wrong). With
+// config.depth_motion = pnp the check uses the motion PnP RANSAC finds on the
+// pairs (motion.h, fitted on the same preferred pairs as F), else the tracker's.
+// Geometry (F, eq. 4, PnP, reprojection) uses undistorted pixels when an undistort
+// function is given and config.undistort_pairs; LK and the depth lookups use the
+// raw positions.
+// The work is split in two so that the flow, which needs no detections, can run
+// while the detector works (paper Fig. 1: tracking waits for the boxes only once
+// the matches are there): TrackPairs (lines 1-2), then JudgePairs (lines 3-14).
+// Thread safety: free functions on const inputs; deterministic for equal inputs.
 #pragma once
 
 #include <cmath>
@@ -33,6 +43,7 @@
 #include "sgslam/dynamic/dynamic_config.h"
 #include "sgslam/dynamic/epipolar.h"
 #include "sgslam/dynamic/flow.h"
+#include "sgslam/dynamic/motion.h"
 #include "sgslam/dynamic/regions.h"
 
 namespace sgslam::dynamic {
@@ -63,23 +74,60 @@ struct RejectionTiming {  // ms
   double flow = 0, fundamental = 0, depth = 0, decide = 0, total = 0;
 };
 
+// Raw px -> undistorted px, in place (Camera::Undistort).
+using UndistortPointsFn = std::function<void(std::vector<cv::Point2f>&)>;
+
+// Algorithm 1 lines 1-2 for every current keypoint, with undistorted copies.
+struct PairSet {
+  std::vector<cv::Point2f> cur;      // raw keypoint positions
+  FlowPairs flow;                    // raw previous positions and pair status
+  std::vector<cv::Point2f> prev_un;  // undistorted flow.prev (= raw without undistortion)
+  std::vector<cv::Point2f> cur_un;   // undistorted cur
+  double ms = 0;                     // flow and undistortion
+};
+
+// Which cells of the previous image the previous frame found mostly dynamic
+// (config.prior_cell); empty: no prior.
+struct DynamicPrior {
+  int cell = 0;  // px
+  cv::Mat dynamic;  // CV_8U, one per cell, 1 = most of its keypoints were rejected
+  bool Dynamic(cv::Point2f p) const;
+};
+
 struct RejectionResult {
   std::vector<KeypointVerdict> keypoints;  // one per input keypoint, same order
   int kept = 0, rejected_geometry = 0, rejected_semantics = 0, rejected_depth = 0, rejected_unmatched = 0;
   int in_dynamic_boxes = 0;  // keypoints with w > 1
   int valid_pairs = 0;       // flow pairs that passed line 2
   std::optional<FundamentalEstimate> fundamental;
+  std::optional<MotionEstimate> motion;  // PnP motion of the RGB-D check (depth_motion = pnp)
+  bool depth_ignored = false;            // the check flagged more than config.depth_max_share: ignored
   double eps_used = 0;  // px, eps_std after fallback relaxation
   int relax_steps = 0;  // fallback relaxation steps taken
   int restored = 0;     // keypoints kept by the fallback ranking (or by restore-all)
   RejectionTiming ms;
 };
 
-// depth: the RGB-D check's inputs, used when config.depth_check (null: skipped).
+PairSet TrackPairs(const FlowFrame& prev, const FlowFrame& cur, const std::vector<cv::KeyPoint>& keys,
+                   const DynamicConfig& config, const UndistortPointsFn& undistort = {});
+
+// depth: the RGB-D check's inputs, used when config.depth_check (null: skipped);
+// with depth_motion = pnp its T_cur_prev is replaced by the PnP estimate (no
+// estimate: no check). prior: config.prior_cell's map of the previous frame.
+RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>& keys,
+                           const std::vector<Detection>& detections, const WeightFn& weight,
+                           const DynamicConfig& config, const DepthCheckInput* depth = nullptr,
+                           const DynamicPrior* prior = nullptr);
+
+// The prior for the next frame from this frame's verdicts.
+DynamicPrior MakeDynamicPrior(const std::vector<cv::KeyPoint>& keys, const RejectionResult& result, cv::Size image,
+                              int cell);
+
+// TrackPairs then JudgePairs.
 RejectionResult RejectDynamicFeatures(const FlowFrame& prev, const FlowFrame& cur,
                                       const std::vector<cv::KeyPoint>& keys, const std::vector<Detection>& detections,
                                       const WeightFn& weight, const DynamicConfig& config,
-                                      const DepthCheckInput* depth = nullptr);
+                                      const DepthCheckInput* depth = nullptr, const UndistortPointsFn& undistort = {});
 
 inline RejectionResult RejectDynamicFeatures(const cv::Mat& prev_gray, const cv::Mat& cur_gray,
                                              const std::vector<cv::KeyPoint>& keys,

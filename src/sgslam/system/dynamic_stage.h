@@ -26,6 +26,7 @@
 #include "sgslam/detection/detection_worker.h"
 #include "sgslam/detection/detector.h"
 #include "sgslam/dynamic/rejection.h"
+#include "sgslam/dynamic/undistort_table.h"
 
 namespace sgslam {
 
@@ -40,7 +41,7 @@ struct DynamicOutcome {
   bool detector_late = false;  // the wait timed out or the frame was dropped
   double detector_ms = 0;      // inference time of this frame's detections
   double wait_ms = 0;          // time tracking waited for them
-  double reject_ms = 0;        // flow + F + decision
+  double reject_ms = 0;        // flow (before the wait) + F + RGB-D check + decision
 };
 
 class DynamicStage {
@@ -68,10 +69,12 @@ class DynamicStage {
   const dynamic::Mode mode_;
   const bool wants_detector_;
   std::shared_ptr<const Camera> camera_;
+  std::shared_ptr<const dynamic::UndistortTable> undistort_;  // raw -> undistorted flow pairs (distorted cameras)
   ClassTable classes_;
   std::unique_ptr<DetectionWorker> worker_;
   dynamic::FlowFrame prev_;
   cv::Mat prev_depth_;
+  dynamic::DynamicPrior prior_;  // config.dynamic.prior_cell: the previous frame's rejections
 };
 
 }  // namespace sgslam

@@ -1,0 +1,249 @@
+// The pieces around Algorithm 1 that work on undistorted pairs: the PnP motion of
+// the RGB-D check (motion.h), JudgePairs on a distorted camera (the fr1 lens), the
+// prior of the previous frame's rejections, and TrackPairs' undistortion step.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "dynamic/dynamic_test_scene.h"
+#include "sgslam/camera/camera.h"
+#include "sgslam/dynamic/motion.h"
+
+namespace sgslam::dynamic {
+namespace {
+
+constexpr double kFx = 517.3, kFy = 516.5, kCx = 318.6, kCy = 255.3;
+
+CameraConfig Fr1() {
+  CameraConfig c;
+  c.width = 640, c.height = 480;
+  c.fx = kFx, c.fy = kFy, c.cx = kCx, c.cy = kCy;
+  c.k1 = 0.2624, c.k2 = -0.9531, c.p1 = -0.0054, c.p2 = 0.0026, c.k3 = 1.1633;
+  return c;
+}
+
+// Static points 1-5 m in front of the previous camera spread over the whole image,
+// seen after a hand-held-like motion (mostly rotation), plus `movers` points that
+// also moved 3 cm sideways between the frames. Positions are given undistorted
+// and, through the fr1 lens, raw; depth is stored at the raw previous pixels.
+struct Scene {
+  SE3 T_cur_prev;
+  std::vector<cv::Point2f> prev_un, cur_un, prev_raw, cur_raw;
+  std::vector<bool> moving;
+  cv::Mat prev_depth, cur_depth;  // CV_32F, m
+  Pinhole K{kFx, kFy, kCx, kCy};
+};
+
+Scene MakeScene(int n_static, int movers, unsigned seed = 3) {
+  const Camera camera(Fr1());
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1), z(1, 5);
+  Scene s;
+  Vector6d xi;
+  xi << 0.004, -0.003, 0.002, 0.02, -0.015, 0.01;  // ~1.5 deg of rotation, ~5 mm of translation
+  s.T_cur_prev = SE3::Exp(xi);
+  s.prev_depth = cv::Mat(480, 640, CV_32F, cv::Scalar(0));
+  s.cur_depth = cv::Mat(480, 640, CV_32F, cv::Scalar(0));
+  auto project = [&](const Eigen::Vector3d& X) { return Eigen::Vector2d(kFx * X.x() / X.z() + kCx, kFy * X.y() / X.z() + kCy); };
+  auto inside = [](const Eigen::Vector2d& p) { return p.x() > 12 && p.y() > 12 && p.x() < 628 && p.y() < 468; };
+  while (static_cast<int>(s.moving.size()) < n_static + movers) {
+    const bool mover = static_cast<int>(s.moving.size()) >= n_static;
+    // A raw previous pixel (integer: the depth lookup rounds, and the lifted point
+    // is then exact), its undistorted position and ray.
+    const cv::Point p0(20 + static_cast<int>(600 * u(rng)), 20 + static_cast<int>(440 * u(rng)));
+    std::vector<cv::Point2f> un = {cv::Point2f(static_cast<float>(p0.x), static_cast<float>(p0.y))};
+    camera.Undistort(un);
+    const double depth = z(rng);
+    const Eigen::Vector3d X((un[0].x - kCx) / kFx * depth, (un[0].y - kCy) / kFy * depth, depth);
+    const Eigen::Vector3d Xc = s.T_cur_prev * (X + (mover ? Eigen::Vector3d(0.03, 0, 0) : Eigen::Vector3d::Zero()));
+    const Eigen::Vector2d u1 = project(Xc);
+    const Eigen::Vector2d r1 = camera.Distort(u1);
+    if (!inside(r1)) continue;
+    const cv::Point p1(cvRound(r1.x()), cvRound(r1.y()));
+    if (s.prev_depth.at<float>(p0) != 0 || s.cur_depth.at<float>(p1) != 0) continue;  // one point per pixel
+    s.prev_depth.at<float>(p0) = static_cast<float>(X.z());
+    s.cur_depth.at<float>(p1) = static_cast<float>(Xc.z());
+    s.prev_raw.emplace_back(static_cast<float>(p0.x), static_cast<float>(p0.y));
+    s.cur_raw.emplace_back(static_cast<float>(r1.x()), static_cast<float>(r1.y()));
+    s.prev_un.push_back(un[0]);
+    s.cur_un.emplace_back(static_cast<float>(u1.x()), static_cast<float>(u1.y()));
+    s.moving.push_back(mover);
+  }
+  return s;
+}
+
+double RotationErrorDeg(const SE3& a, const SE3& b) {
+  const Eigen::AngleAxisd d(a.rotation().transpose() * b.rotation());
+  return d.angle() * 180.0 / M_PI;
+}
+
+TEST(Motion, PnpRecoversTheCameraMotionDespiteMovers) {
+  const Scene s = MakeScene(300, 100);
+  const DynamicConfig c;
+  const std::vector<bool> all(s.moving.size(), true);
+  const auto est = EstimateMotion(s.prev_raw, s.prev_un, s.cur_un, all, s.prev_depth, 1.0, s.K, c);
+  ASSERT_TRUE(est);
+  EXPECT_EQ(est->pairs, 400);
+  EXPECT_GE(est->inliers, 295);  // the 300 static points (float rounding aside)
+  EXPECT_LE(est->inliers, 330);  // few movers happen to fit
+  EXPECT_LT(RotationErrorDeg(est->T_cur_prev, s.T_cur_prev), 0.01);
+  EXPECT_LT((est->T_cur_prev.translation() - s.T_cur_prev.translation()).norm(), 1e-3);  // m
+  // Deterministic for equal inputs.
+  const auto again = EstimateMotion(s.prev_raw, s.prev_un, s.cur_un, all, s.prev_depth, 1.0, s.K, c);
+  ASSERT_TRUE(again);
+  EXPECT_EQ(again->T_cur_prev.translation(), est->T_cur_prev.translation());
+}
+
+TEST(Motion, NoEstimateWithoutEnoughDepth) {
+  const Scene s = MakeScene(40, 0);
+  DynamicConfig c;
+  c.motion_min_inliers = 30;
+  std::vector<bool> few(s.moving.size(), false);
+  for (int i = 0; i < 20; ++i) few[i] = true;
+  EXPECT_FALSE(EstimateMotion(s.prev_raw, s.prev_un, s.cur_un, few, s.prev_depth, 1.0, s.K, c));
+  EXPECT_FALSE(EstimateMotion(s.prev_raw, s.prev_un, s.cur_un, std::vector<bool>(40, true), cv::Mat(), 1.0, s.K, c));
+}
+
+// A PairSet as TrackPairs would make it, from known positions.
+PairSet Pairs(const Scene& s, bool undistorted) {
+  PairSet p;
+  p.cur = s.cur_raw;
+  p.flow.prev = s.prev_raw;
+  p.flow.status.assign(s.cur_raw.size(), PairStatus::kOk);
+  p.flow.valid = static_cast<int>(s.cur_raw.size());
+  p.prev_un = undistorted ? s.prev_un : s.prev_raw;
+  p.cur_un = undistorted ? s.cur_un : s.cur_raw;
+  return p;
+}
+
+std::vector<cv::KeyPoint> Keys(const Scene& s) {
+  std::vector<cv::KeyPoint> k;
+  for (const auto& p : s.cur_raw) k.emplace_back(p, 7.f);
+  return k;
+}
+
+struct Tally {
+  int static_rejected = 0, moving_rejected = 0, movers = 0, statics = 0;
+};
+Tally Count(const Scene& s, const RejectionResult& r) {
+  Tally t;
+  for (size_t i = 0; i < s.moving.size(); ++i) {
+    (s.moving[i] ? t.movers : t.statics) += 1;
+    if (!r.keypoints[i].kept) (s.moving[i] ? t.moving_rejected : t.static_rejected) += 1;
+  }
+  return t;
+}
+
+TEST(Motion, EpipolarTestNeedsUndistortedPairsOnTheFr1Lens) {
+  const Scene s = MakeScene(400, 0);
+  DynamicConfig c;
+  c.mode = "geometric";
+  c.eps_std = 1.0;
+  c.depth_check = false;
+  const auto keys = Keys(s);
+  const RejectionResult un = JudgePairs(Pairs(s, true), keys, {}, {}, c);
+  const RejectionResult raw = JudgePairs(Pairs(s, false), keys, {}, {}, c);
+  ASSERT_TRUE(un.fundamental && raw.fundamental);
+  double worst_un = 0;
+  int raw_over = 0;
+  for (size_t i = 0; i < keys.size(); ++i) {
+    worst_un = std::max(worst_un, un.keypoints[i].distance);
+    raw_over += raw.keypoints[i].distance > 0.5;
+  }
+  std::printf("static pairs: max d undistorted %.4f px; raw pairs with d > 0.5 px: %d of %zu\n", worst_un, raw_over,
+              keys.size());
+  EXPECT_LT(worst_un, 0.05);  // exact geometry up to float rounding
+  EXPECT_EQ(Count(s, un).static_rejected, 0);
+  EXPECT_GT(raw_over, 20);  // the lens bends the epipolar lines at the periphery
+}
+
+TEST(Motion, DepthCheckWithPnpMotionCatchesMoversOnTheFr1Lens) {
+  const Scene s = MakeScene(300, 100);
+  DynamicConfig c;
+  c.mode = "geometric";
+  c.eps_std = 1e3;  // the epipolar test off: the RGB-D check alone
+  c.depth_check = true;
+  c.depth_motion = "pnp";
+  DepthCheckInput depth{s.prev_depth, s.cur_depth, 1.0, s.K, SE3(), {}};  // no tracker pose
+  const RejectionResult r = JudgePairs(Pairs(s, true), Keys(s), {}, {}, c, &depth);
+  ASSERT_TRUE(r.motion);
+  const Tally t = Count(s, r);
+  std::printf("pnp depth check: %d of %d movers, %d of %d static rejected\n", t.moving_rejected, t.movers,
+              t.static_rejected, t.statics);
+  EXPECT_GE(t.moving_rejected, 90);  // 3 cm at 1-5 m: 3-15 px, above the 3 px tolerance
+  EXPECT_EQ(t.static_rejected, 0);
+  EXPECT_FALSE(r.depth_ignored);
+  // The tracker's pose instead (here the identity, a bad prediction): the check
+  // would flag nearly everything, so it is ignored for the frame...
+  c.depth_motion = "tracker";
+  const RejectionResult bad = JudgePairs(Pairs(s, true), Keys(s), {}, {}, c, &depth);
+  EXPECT_FALSE(bad.motion);
+  EXPECT_TRUE(bad.depth_ignored);
+  EXPECT_EQ(Count(s, bad).static_rejected, 0);
+  EXPECT_EQ(bad.rejected_depth, 0);
+  // ... unless the share limit is lifted.
+  c.depth_max_share = 1.0;
+  const RejectionResult trusted = JudgePairs(Pairs(s, true), Keys(s), {}, {}, c, &depth);
+  EXPECT_FALSE(trusted.depth_ignored);
+  EXPECT_GT(Count(s, trusted).static_rejected, 200);
+}
+
+TEST(Motion, PriorCellsAreLeftOutOfTheFits) {
+  const Scene s = MakeScene(300, 100);
+  const auto keys = Keys(s);
+  // A previous frame whose verdicts rejected every point left of x = 320.
+  RejectionResult previous;
+  previous.keypoints.resize(keys.size());
+  std::vector<cv::KeyPoint> prev_keys;
+  int left = 0;
+  for (size_t i = 0; i < keys.size(); ++i) {
+    prev_keys.emplace_back(s.prev_raw[i], 7.f);
+    previous.keypoints[i].kept = s.prev_raw[i].x >= 320;
+    left += s.prev_raw[i].x < 320;
+  }
+  const DynamicPrior prior = MakeDynamicPrior(prev_keys, previous, {640, 480}, 20);
+  EXPECT_EQ(prior.cell, 20);
+  EXPECT_TRUE(prior.Dynamic(s.prev_raw[0]) == (s.prev_raw[0].x < 320));
+  EXPECT_FALSE(prior.Dynamic({700, 10}));  // outside: no prior
+  EXPECT_FALSE(DynamicPrior{}.Dynamic({10, 10}));
+  DynamicConfig c;
+  c.mode = "geometric";
+  c.depth_check = false;
+  const RejectionResult without = JudgePairs(Pairs(s, true), keys, {}, {}, c);
+  const RejectionResult with = JudgePairs(Pairs(s, true), keys, {}, {}, c, nullptr, &prior);
+  ASSERT_TRUE(without.fundamental && with.fundamental);
+  EXPECT_EQ(without.fundamental->pairs, 400);
+  EXPECT_EQ(with.fundamental->pairs, 400 - left);
+}
+
+TEST(Motion, TrackPairsUndistortsBothPositions) {
+  const test::FramePair p = test::MakePair("static", 10);
+  const auto keys = test::DetectKeypoints(p.cur_gray, 200);
+  DynamicConfig c;
+  const UndistortPointsFn shift = [](std::vector<cv::Point2f>& v) {
+    for (auto& x : v) x += cv::Point2f(1.f, -2.f);
+  };
+  const PairSet a = TrackPairs(FlowFrame{p.prev_gray, {}}, FlowFrame{p.cur_gray, {}}, keys, c, shift);
+  ASSERT_EQ(a.cur.size(), keys.size());
+  for (size_t i = 0; i < keys.size(); ++i) {
+    EXPECT_EQ(a.cur[i], keys[i].pt);
+    EXPECT_EQ(a.cur_un[i], keys[i].pt + cv::Point2f(1.f, -2.f));
+    EXPECT_EQ(a.prev_un[i], a.flow.prev[i] + cv::Point2f(1.f, -2.f));
+  }
+  c.undistort_pairs = false;
+  const PairSet b = TrackPairs(FlowFrame{p.prev_gray, {}}, FlowFrame{p.cur_gray, {}}, keys, c, shift);
+  for (size_t i = 0; i < keys.size(); ++i) EXPECT_EQ(b.cur_un[i], keys[i].pt);
+}
+
+TEST(Motion, ConfigChecksTheNewKeys) {
+  DynamicConfig bad;
+  bad.depth_motion = "imu";
+  bad.prior_cell = -1;
+  bad.depth_max_share = 1.5;
+  ConfigChecker c("dynamic");
+  bad.Validate(c);
+  EXPECT_EQ(c.problems().size(), 3u);
+}
+
+}  // namespace
+}  // namespace sgslam::dynamic
