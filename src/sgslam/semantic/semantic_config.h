@@ -13,7 +13,8 @@ namespace sgslam {
 
 struct SemanticConfig {
   bool enabled = true;          // build cloud.ply, octomap.bt and objects.json
-  int queue_size = 8;           // keyframes waiting for the semantic thread; tracking never waits (oldest dropped)
+  int queue_size = 64;          // keyframes waiting for the semantic thread (~1.5 MB each); when full the oldest is dropped
+  bool low_priority = true;     // run the semantic thread at the lowest CPU priority (it catches up when tracking idles)
   double depth_min = 0.5;       // m, depths used for the cloud, the OctoMap and objects
   double depth_max = 5.0;       // m
   int cloud_stride = 3;         // px, pixel step when back-projecting a keyframe's depth
@@ -53,6 +54,7 @@ struct SemanticConfig {
   void Visit(V&& v) {
     v("enabled", enabled, "build cloud, OctoMap and objects");
     v("queue_size", queue_size, "keyframes queued for the semantic thread");
+    v("low_priority", low_priority, "lowest CPU priority for the semantic thread");
     v("depth_min", depth_min, "m, valid depth range");
     v("depth_max", depth_max, "m, valid depth range");
     v("cloud_stride", cloud_stride, "px, back-projection pixel step");

@@ -1,5 +1,8 @@
 #include "sgslam/semantic/semantic_mapper.h"
 
+#include <sys/resource.h>
+#include <unistd.h>
+
 #include <shared_mutex>
 
 #include "sgslam/camera/camera.h"
@@ -88,6 +91,9 @@ void SemanticMapper::Finish() {
 }
 
 void SemanticMapper::Loop() {
+  // The map is for later use; poses are for now: on two cores the semantic work
+  // takes only the time tracking and local mapping leave (Linux: per-thread nice).
+  if (config_.semantic.low_priority) setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 19);
   for (;;) {
     SemanticInput input;
     {
