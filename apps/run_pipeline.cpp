@@ -20,6 +20,7 @@
 #include "sgslam/detection/detector.h"
 #include "sgslam/system/run_config.h"
 #include "sgslam/system/slam_system.h"
+#include "map_plot.h"
 #include "semantic_output.h"
 
 namespace sgslam::app {
@@ -142,6 +143,7 @@ RunSummary RunSequence(const RunOptions& o) {
     WritePly(s.out / "cloud.ply", cloud, colours);
     sem->octomap().Write(s.out / "octomap.bt");
     WriteObjectsJson(s.out / "objects.json", objects);
+    WriteTopView(s.out / "map_top.png", cloud, colours, objects, trajectory);
     PrintObjectTable(objects);
     const SemanticStats st = sem->stats();
     semantic_json = {{"keyframes", st.keyframes},

@@ -1,0 +1,72 @@
+#include "map_plot.h"
+
+#include <algorithm>
+#include <numeric>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "sgslam/common/error.h"
+
+namespace sgslam::app {
+
+namespace {
+
+double Percentile(std::vector<double> v, double q) {
+  if (v.empty()) return 0;
+  const auto k = static_cast<std::ptrdiff_t>(q * static_cast<double>(v.size() - 1));
+  std::nth_element(v.begin(), v.begin() + k, v.end());
+  return v[static_cast<std::size_t>(k)];
+}
+
+}  // namespace
+
+void WriteTopView(const std::filesystem::path& path, const std::vector<Eigen::Vector3d>& cloud,
+                  const std::vector<Rgb>& colours, const std::vector<ObjectEstimate>& objects,
+                  const Trajectory& trajectory) {
+  std::vector<double> xs, zs;
+  for (const auto& p : cloud) xs.push_back(p.x()), zs.push_back(p.z());
+  for (const auto& s : trajectory) xs.push_back(s.T_w_c.translation().x()), zs.push_back(s.T_w_c.translation().z());
+  if (xs.empty()) xs = {-1, 1}, zs = {-1, 1};
+  const double x0 = Percentile(xs, 0.01) - 0.2, x1 = Percentile(xs, 0.99) + 0.2;
+  const double z0 = Percentile(zs, 0.01) - 0.2, z1 = Percentile(zs, 0.99) + 0.2;
+  const int width = 900;
+  const double scale = width / std::max(x1 - x0, 1e-3);
+  const int height = std::clamp(static_cast<int>((z1 - z0) * scale), 200, 2000);
+  cv::Mat image(height, width, CV_8UC3, cv::Scalar(255, 255, 255));
+  const auto px = [&](double x, double z) {
+    return cv::Point(static_cast<int>((x - x0) * scale), static_cast<int>((z1 - z) * scale));
+  };
+  // Highest points last (y points down): the view from above shows tops.
+  std::vector<std::size_t> order(cloud.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return cloud[a].y() > cloud[b].y(); });
+  for (std::size_t i : order) {
+    const cv::Point p = px(cloud[i].x(), cloud[i].z());
+    if (p.x < 0 || p.y < 0 || p.x >= width || p.y >= height) continue;
+    const Rgb c = i < colours.size() ? colours[i] : Rgb{90, 90, 90};
+    image.at<cv::Vec3b>(p) = cv::Vec3b(c[2], c[1], c[0]);
+  }
+  for (std::size_t i = 1; i < trajectory.size(); ++i) {
+    cv::line(image, px(trajectory[i - 1].T_w_c.translation().x(), trajectory[i - 1].T_w_c.translation().z()),
+             px(trajectory[i].T_w_c.translation().x(), trajectory[i].T_w_c.translation().z()), cv::Scalar(0, 0, 220), 2,
+             cv::LINE_AA);
+  }
+  for (const ObjectEstimate& o : objects) {
+    if (!o.exported) continue;
+    const cv::Point a = px(o.centroid.x() - o.size.x() / 2, o.centroid.z() - o.size.z() / 2);
+    const cv::Point b = px(o.centroid.x() + o.size.x() / 2, o.centroid.z() + o.size.z() / 2);
+    cv::rectangle(image, a, b, cv::Scalar(200, 120, 0), 2);
+    cv::putText(image, o.class_name, cv::Point(std::min(a.x, b.x), std::min(a.y, b.y) - 4), cv::FONT_HERSHEY_SIMPLEX,
+                0.5, cv::Scalar(200, 120, 0), 1, cv::LINE_AA);
+  }
+  const int bar = static_cast<int>(scale);  // 1 m scale bar
+  cv::line(image, {20, height - 20}, {20 + bar, height - 20}, cv::Scalar(0, 0, 0), 2);
+  cv::putText(image, "1 m", {20, height - 28}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
+  const std::filesystem::path tmp = path.string() + ".tmp.png";
+  if (!cv::imwrite(tmp.string(), image)) throw InputError("cannot write " + tmp.string());
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) throw InputError("cannot rename " + tmp.string() + " to " + path.string() + ": " + ec.message());
+}
+
+}  // namespace sgslam::app
