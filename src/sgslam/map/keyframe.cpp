@@ -185,4 +185,14 @@ void KeyFrame::SetBad(Map& map) {
   map.EraseKeyFrame(id);
 }
 
+SE3 KeyFrame::PlacedT_c_w() const {
+  SE3 T_c_r;
+  const KeyFrame* ref = this;
+  while (ref->bad() && ref->parent_when_culled()) {
+    T_c_r = T_c_r * ref->T_c_parent();
+    ref = ref->parent_when_culled().get();
+  }
+  return T_c_r * ref->T_c_w();
+}
+
 }  // namespace sgslam

@@ -66,6 +66,9 @@ class KeyFrame : public std::enable_shared_from_this<KeyFrame> {
   // The parent at the time of culling, held strongly so that the chain from a
   // culled keyframe to a live one never breaks (parents are older: no cycles).
   const std::shared_ptr<KeyFrame>& parent_when_culled() const { return parent_when_culled_; }
+  // [map] The pose now, for a culled keyframe too: placed on the live keyframe its
+  // chain of parents ends at (ORB-SLAM2's trajectory export).
+  SE3 PlacedT_c_w() const;
 
   // Local mapping / tracking scratch (each touched by one thread only).
   std::uint64_t ba_local_for_kf = 0, ba_fixed_for_kf = 0;  // local mapping

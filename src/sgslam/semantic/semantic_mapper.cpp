@@ -13,16 +13,6 @@
 
 namespace sgslam {
 
-SE3 CurrentT_c_w(const KeyFrame& keyframe) {
-  SE3 T_c_r;
-  const KeyFrame* ref = &keyframe;
-  while (ref->bad() && ref->parent_when_culled()) {
-    T_c_r = T_c_r * ref->T_c_parent();
-    ref = ref->parent_when_culled().get();
-  }
-  return T_c_r * ref->T_c_w();
-}
-
 namespace {
 
 // Min over factor x factor blocks of the valid depths (m), 0 where a block has none:
@@ -115,7 +105,7 @@ void SemanticMapper::ProcessKeyFrame(const SemanticInput& input) {
   SE3 T_w_c;
   {
     std::shared_lock lock(map_.mutex());
-    T_w_c = CurrentT_c_w(kf).Inverse();
+    T_w_c = kf.PlacedT_c_w().Inverse();
   }
   StageMs ms{};
   Stopwatch stage;
@@ -169,7 +159,7 @@ void SemanticMapper::FilterAndRebuild() {
   }
   std::vector<SE3> T_c_w(clouds_.size()), T_w_c(clouds_.size());
   for (std::size_t k = 0; k < clouds_.size(); ++k) {
-    T_c_w[k] = CurrentT_c_w(*clouds_[k].keyframe);
+    T_c_w[k] = clouds_[k].keyframe->PlacedT_c_w();
     T_w_c[k] = T_c_w[k].Inverse();
   }
   const double pool = c.consistency_pool;
@@ -210,7 +200,7 @@ void SemanticMapper::ExportCloud(std::vector<Eigen::Vector3d>& points, std::vect
   FilterAndRebuild();
   std::vector<ColoredPoint> world;
   for (const KeyFrameCloud& k : clouds_) {
-    const SE3 T_w_c = CurrentT_c_w(*k.keyframe).Inverse();
+    const SE3 T_w_c = k.keyframe->PlacedT_c_w().Inverse();
     for (const ColoredPoint& p : k.points_c) world.push_back({(T_w_c * p.p.cast<double>()).cast<float>(), p.rgb});
   }
   const std::vector<ColoredPoint> merged = VoxelDownsample(world, config_.semantic.cloud_voxel);
@@ -238,7 +228,7 @@ SemanticMapper::CloudTruth SemanticMapper::ScoreCloud(const std::function<cv::Ma
     const cv::Mat mask = mask_of(k.keyframe->t);
     if (mask.empty()) continue;
     ++t.keyframes;
-    const SE3 T_w_c = CurrentT_c_w(*k.keyframe).Inverse();
+    const SE3 T_w_c = k.keyframe->PlacedT_c_w().Inverse();
     for (const ColoredPoint& p : k.points_c) {
       if (config_.semantic.free_space_filter && octomap_.IsFree(T_w_c * p.p.cast<double>())) continue;
       const Eigen::Vector2d uv = camera_->Distort(camera_->Project(p.p.cast<double>()));
@@ -252,7 +242,7 @@ SemanticMapper::CloudTruth SemanticMapper::ScoreCloud(const std::function<cv::Ma
 }
 
 std::vector<ObjectEstimate> SemanticMapper::ExportObjects(const SE3& T_out_w) const {
-  return objects_.Estimate([](const KeyFrame& kf) { return CurrentT_c_w(kf).Inverse(); }, T_out_w);
+  return objects_.Estimate([](const KeyFrame& kf) { return kf.PlacedT_c_w().Inverse(); }, T_out_w);
 }
 
 SemanticStats SemanticMapper::stats() const {

@@ -50,10 +50,6 @@ struct SemanticStats {
   std::size_t cloud_points = 0, cloud_points_freed = 0;  // exported, and removed by the free-space filter
 };
 
-// T_c_w of a keyframe now; culled ones are placed through the parents they had.
-// Call under Map::mutex() (shared).
-SE3 CurrentT_c_w(const KeyFrame& keyframe);
-
 class SemanticMapper {
  public:
   SemanticMapper(const Config& config, const Map& map, bool sequential);

@@ -128,15 +128,7 @@ Trajectory SlamSystem::FrameTrajectory() const {
   Trajectory out;
   out.reserve(records_.size());
   for (const auto& r : records_) {
-    // A culled reference hands the frame to its parent (ORB-SLAM2's trajectory export).
-    SE3 T_c_r = r.T_c_r;
-    std::shared_ptr<KeyFrame> ref = r.reference;
-    while (ref && ref->bad()) {
-      T_c_r = T_c_r * ref->T_c_parent();
-      ref = ref->parent_when_culled();
-    }
-    if (!ref) continue;
-    out.push_back({r.t, (T_c_r * ref->T_c_w()).Inverse()});
+    if (r.reference) out.push_back({r.t, (r.T_c_r * r.reference->PlacedT_c_w()).Inverse()});
   }
   return out;
 }
