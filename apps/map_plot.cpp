@@ -6,19 +6,9 @@
 #include <opencv2/imgproc.hpp>
 
 #include "sgslam/common/error.h"
+#include "sgslam/common/stats.h"
 
 namespace sgslam::app {
-
-namespace {
-
-double Percentile(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  const auto k = static_cast<std::ptrdiff_t>(q * static_cast<double>(v.size() - 1));
-  std::nth_element(v.begin(), v.begin() + k, v.end());
-  return v[static_cast<std::size_t>(k)];
-}
-
-}  // namespace
 
 void WriteTopView(const std::filesystem::path& path, const std::vector<Eigen::Vector3d>& cloud,
                   const std::vector<Rgb>& colours, const std::vector<ObjectEstimate>& objects,

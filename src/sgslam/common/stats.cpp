@@ -1,6 +1,7 @@
 #include "sgslam/common/stats.h"
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <string>
 
@@ -14,6 +15,13 @@ double Median(std::vector<double> values) {
   if (n % 2 == 1) return upper;
   const double lower = *std::max_element(values.begin(), values.begin() + n / 2);
   return 0.5 * (lower + upper);
+}
+
+double Percentile(std::vector<double> values, double q) {
+  if (values.empty()) return 0.0;
+  const auto k = static_cast<std::ptrdiff_t>(std::lround(std::clamp(q, 0.0, 1.0) * static_cast<double>(values.size() - 1)));
+  std::nth_element(values.begin(), values.begin() + k, values.end());
+  return values[static_cast<std::size_t>(k)];
 }
 
 double PeakRssMiB() {

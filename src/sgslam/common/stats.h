@@ -21,6 +21,8 @@ class Stopwatch {
 
 // Median (mean of the two middle values for an even count); 0 for an empty input.
 double Median(std::vector<double> values);
+// The q-quantile (0..1) by nearest rank, no interpolation; 0 for an empty input.
+double Percentile(std::vector<double> values, double q);
 
 // Peak resident set size of this process in MiB (VmHWM), 0 when unknown.
 double PeakRssMiB();

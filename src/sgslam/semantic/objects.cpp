@@ -3,24 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sgslam/common/stats.h"
 #include "sgslam/map/keyframe.h"
 
 namespace sgslam {
 
 namespace {
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
-
-double Percentile(std::vector<double>& v, double q) {
-  const auto k = static_cast<std::ptrdiff_t>(std::lround(q * static_cast<double>(v.size() - 1)));
-  std::nth_element(v.begin(), v.begin() + k, v.end());
-  return v[static_cast<std::size_t>(k)];
-}
 
 double Volume(const Eigen::Vector3d& min, const Eigen::Vector3d& max) {
   const Eigen::Vector3d d = (max - min).cwiseMax(0.0);
