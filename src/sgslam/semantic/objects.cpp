@@ -145,15 +145,18 @@ int ObjectDatabase::Add(ObjectObservation observation, const SE3& T_w_c, bool ma
   if (best == nullptr) {
     if (!may_create) return 0;
     objects_.push_back({next_id_++, observation.class_id, observation.class_name, {}, box});
-    poses_.emplace_back();
     index = objects_.size() - 1;
   } else {
     index = static_cast<std::size_t>(best - objects_.data());
   }
   Object& o = objects_[index];
+  observation.T_w_c_added = T_w_c;
   o.observations.push_back(std::move(observation));
-  poses_[index].push_back(T_w_c);
-  if (o.observations.size() > 1) o.box = BoxOf(CarvedPoints(o, poses_[index]));
+  if (o.observations.size() > 1) {
+    std::vector<SE3> poses;
+    for (const ObjectObservation& obs : o.observations) poses.push_back(obs.T_w_c_added);
+    o.box = BoxOf(CarvedPoints(o, poses));
+  }
   return o.id;
 }
 
@@ -187,13 +190,11 @@ std::vector<Eigen::Vector3d> ObjectDatabase::CarvedPoints(const Object& o, const
 std::vector<ObjectEstimate> ObjectDatabase::Estimate(const KeyFramePoseFn& pose_of, const SE3& T_out_w) const {
   std::vector<ObjectEstimate> out;
   out.reserve(objects_.size());
-  for (std::size_t k = 0; k < objects_.size(); ++k) {
-    const Object& o = objects_[k];
+  for (const Object& o : objects_) {
     std::vector<SE3> T_w_c;
     double score = 0;
-    for (std::size_t j = 0; j < o.observations.size(); ++j) {
-      const ObjectObservation& obs = o.observations[j];
-      T_w_c.push_back(obs.keyframe ? pose_of(*obs.keyframe) : poses_[k][j]);
+    for (const ObjectObservation& obs : o.observations) {
+      T_w_c.push_back(obs.keyframe ? pose_of(*obs.keyframe) : obs.T_w_c_added);
       score += obs.score;
     }
     std::vector<Eigen::Vector3d> points = CarvedPoints(o, T_w_c);

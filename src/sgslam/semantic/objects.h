@@ -31,11 +31,12 @@ namespace sgslam {
 class KeyFrame;
 
 struct ObjectObservation {
-  std::shared_ptr<KeyFrame> keyframe;     // anchor (null in tests: the samples are then in the world frame)
+  std::shared_ptr<KeyFrame> keyframe;     // anchor (null: the pose given to Add stays the pose)
   int class_id = -1;
   std::string class_name;
   float score = 0.f;
   cv::Rect2f box;                         // px, the detection box (raw image)
+  SE3 T_w_c_added;                        // the keyframe's pose when added (set by Add; the pose without a keyframe)
   std::vector<Eigen::Vector3f> points_c;  // m, samples in the keyframe's camera frame
 };
 
@@ -87,7 +88,7 @@ class ObjectDatabase {
     Box box;  // world frame, poses at insertion: association only
   };
   static Box BoxOf(const std::vector<Eigen::Vector3d>& points);
-  // The object's samples in the world frame that the other views agree with: a
+  // The object's samples in the world frame (T_w_c: per observation) that the other views agree with: a
   // sample is kept when, among the other observations whose image it projects
   // into, at least half have it inside their box (a visual hull of the boxes: the
   // floor and wall caught in one view's box corners fall outside the others').
@@ -97,7 +98,6 @@ class ObjectDatabase {
   ProjectFn project_;
   cv::Size image_;
   std::vector<Object> objects_;
-  std::vector<std::vector<SE3>> poses_;  // per object, T_w_c of each observation at insertion
   int next_id_ = 1;
 };
 
