@@ -74,7 +74,6 @@ class ObjectDatabase {
   // Every object, re-estimated with the keyframes' current poses, in the frame
   // T_out_w * world (identity: the map frame).
   std::vector<ObjectEstimate> Estimate(const KeyFramePoseFn& pose_of, const SE3& T_out_w = SE3()) const;
-  std::size_t size() const { return objects_.size(); }
 
  private:
   struct Box {

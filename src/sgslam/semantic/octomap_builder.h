@@ -43,7 +43,6 @@ class OctoMapBuilder {
   // Binary .bt (occupancy only, as octovis and octomap_server read it), atomically.
   // Throws InputError naming the file.
   void Write(const std::filesystem::path& path);
-  const octomap::ColorOcTree& tree() const { return *tree_; }
 
  private:
   SemanticConfig config_;
