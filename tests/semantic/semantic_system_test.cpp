@@ -87,8 +87,8 @@ std::vector<TruthFrame> LoadTruth(const fs::path& dir) {
 // frame: they project onto a moving pixel whose depth is theirs. A static point
 // behind a walker projects onto the walker too, but at another depth.
 std::size_t OnMovingSurface(const std::vector<Eigen::Vector3d>& points_gtw, const std::vector<TruthFrame>& frames,
-                            double tolerance) {
-  const double fx = 525.0, fy = 525.0, cx = 319.5, cy = 239.5;  // the synthetic camera
+                            const CameraConfig& cam, double tolerance) {
+  const double fx = cam.fx, fy = cam.fy, cx = cam.cx, cy = cam.cy;  // synthetic: no distortion
   std::size_t n = 0;
   for (const Eigen::Vector3d& p : points_gtw) {
     for (const TruthFrame& f : frames) {
@@ -109,7 +109,7 @@ std::size_t OnMovingSurface(const std::vector<Eigen::Vector3d>& points_gtw, cons
 // Share of the static pixels (depth in range) of the frames that have a point
 // within 2 voxels in `points_gtw`.
 double StaticCoverage(const std::vector<Eigen::Vector3d>& points_gtw, const std::vector<TruthFrame>& frames,
-                      double voxel) {
+                      const CameraConfig& cam, double voxel) {
   const auto key = [voxel](const Eigen::Vector3d& p) {
     const Eigen::Vector3d k = (p / voxel).array().floor();
     return (static_cast<std::int64_t>(k.x()) * 73856093) ^ (static_cast<std::int64_t>(k.y()) * 19349663) ^
@@ -117,7 +117,7 @@ double StaticCoverage(const std::vector<Eigen::Vector3d>& points_gtw, const std:
   };
   std::unordered_set<std::int64_t> cells;
   for (const auto& p : points_gtw) cells.insert(key(p));
-  const double fx = 525.0, fy = 525.0, cx = 319.5, cy = 239.5;
+  const double fx = cam.fx, fy = cam.fy, cx = cam.cx, cy = cam.cy;
   std::size_t total = 0, covered = 0;
   for (const TruthFrame& f : frames) {
     const SE3 T_gtw_c = f.T_c_gtw.Inverse();
@@ -196,13 +196,14 @@ TEST_F(SemanticSystem, WalkersLeaveNoTraceInTheCloudAndTheOctoMap) {
   const fs::path bt = dir_.path() / "walkers.bt";
   const Result r = RunOn(seq, bt);
   const std::vector<TruthFrame> truth = LoadTruth(seq);
+  const CameraConfig cam = ResolveRunConfig(std::nullopt, seq).config.camera;
   std::vector<Eigen::Vector3d> cloud;
   for (const auto& p : r.cloud) cloud.push_back(r.T_gtw_map * p);
   ASSERT_GT(cloud.size(), 10000u);
-  const std::size_t moving = OnMovingSurface(cloud, truth, 0.03);
+  const std::size_t moving = OnMovingSurface(cloud, truth, cam, 0.03);
   EXPECT_LT(static_cast<double>(moving), 0.01 * static_cast<double>(cloud.size()))
       << moving << " of " << cloud.size() << " cloud points on walkers";
-  const double coverage = StaticCoverage(cloud, truth, 0.02);
+  const double coverage = StaticCoverage(cloud, truth, cam, 0.02);
   EXPECT_GT(coverage, 0.8) << "static surfaces covered";
 
   // The .bt file reloads with OctoMap's own reader, with the leaves the run counted.
@@ -217,7 +218,7 @@ TEST_F(SemanticSystem, WalkersLeaveNoTraceInTheCloudAndTheOctoMap) {
   }
   EXPECT_NEAR(static_cast<double>(occupied.size()), static_cast<double>(r.occupied_leaves),
               0.02 * static_cast<double>(r.occupied_leaves) + 10);
-  const std::size_t moving_cells = OnMovingSurface(occupied, truth, 0.03);
+  const std::size_t moving_cells = OnMovingSurface(occupied, truth, cam, 0.03);
   EXPECT_LT(static_cast<double>(moving_cells), 0.01 * static_cast<double>(occupied.size()))
       << moving_cells << " of " << occupied.size() << " occupied cells on walkers";
 }
