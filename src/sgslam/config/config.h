@@ -130,6 +130,10 @@ struct MappingConfig {
   int fusion_neighbours = 10;         // covisible keyframes (and theirs) for duplicate fusion
   int ba_first_iterations = 5;        // local BA, with robust kernel
   int ba_second_iterations = 10;      // local BA, after removing outliers
+  // free keyframes of local BA: the new one and its best covisibles. The Schur
+  // complement grows with their square, and in a small scene every keyframe is
+  // covisible with every other (fr1_rpy: up to 63 free).
+  int ba_max_local_keyframes = 25;
   double redundant_ratio = 0.9;       // a keyframe is culled when this share of its points is seen thrice elsewhere
   int queue_size = 3;                 // keyframes waiting for local mapping, beyond which tracking waits
   // frames after a keyframe during which --sequential treats local mapping as
@@ -143,6 +147,7 @@ struct MappingConfig {
     v("fusion_neighbours", fusion_neighbours, "keyframes searched for duplicates");
     v("ba_first_iterations", ba_first_iterations, "local BA iterations with robust kernel");
     v("ba_second_iterations", ba_second_iterations, "local BA iterations after outlier removal");
+    v("ba_max_local_keyframes", ba_max_local_keyframes, "free keyframes in local BA, best covisibles first");
     v("redundant_ratio", redundant_ratio, "share of points seen elsewhere to cull a keyframe");
     v("queue_size", queue_size, "keyframes queued for local mapping");
     v("sequential_busy_frames", sequential_busy_frames, "frames, mapping busy after a keyframe in --sequential");

@@ -28,7 +28,8 @@ bool LocalMapper::LocalBundleAdjustment(const std::shared_ptr<KeyFrame>& kf,
       problem.keyframes.push_back({k->id, k->T_c_w(), fixed || k->id == 0});
     };
     add_kf(kf, false);
-    for (const auto& k : kf->Covisibles()) add_kf(k, false);
+    const auto max_free = static_cast<std::size_t>(config_.mapping.ba_max_local_keyframes);
+    for (const auto& k : kf->Covisibles(max_free - 1)) add_kf(k, false);
     const std::size_t local_count = keyframes.size();
     std::map<std::uint64_t, int> point_index;
     for (std::size_t k = 0; k < local_count; ++k) {
