@@ -6,6 +6,7 @@
 #include "sgslam/camera/camera.h"
 #include "sgslam/common/error.h"
 #include "sgslam/config/config.h"
+#include "sgslam/semantic/background_planes.h"
 #include "sgslam/semantic/cloud.h"
 #include "sgslam/semantic/dynamic_mask.h"
 #include "sgslam/semantic/objects.h"
@@ -98,6 +99,71 @@ TEST(ObserveObject, TakesTheObjectDepthsOfTheWholeBox) {
   EXPECT_NEAR(hi.y() - lo.y(), 0.72, 0.05);
   // Too small a box: too few depth samples, no observation.
   EXPECT_FALSE(ObserveObject({56, "chair", 0.8f, cv::Rect2f(10, 10, 4, 4)}, BoxBeforeWall(), 5000, rays, c));
+}
+
+TEST(FitPlanes, FindsFloorAndWallButNotTheClutterBetween) {
+  std::vector<Eigen::Vector3f> pts;
+  for (int i = 0; i < 20; ++i)
+    for (int j = 0; j < 20; ++j) {
+      pts.emplace_back(-1.0f + 0.1f * static_cast<float>(i), 0.8f, 1.5f + 0.1f * static_cast<float>(j));  // floor y = 0.8
+      if (j < 12) pts.emplace_back(-1.0f + 0.1f * static_cast<float>(i), -0.4f + 0.1f * static_cast<float>(j), 4.0f);  // wall
+    }
+  std::vector<Eigen::Vector3f> clutter;
+  for (int i = 0; i < 60; ++i)  // scattered points near neither plane
+    clutter.emplace_back(0.3f * std::sin(1.7f * static_cast<float>(i)), 0.2f * std::cos(2.3f * static_cast<float>(i)),
+                         2.5f + 0.5f * std::sin(0.9f * static_cast<float>(i)));
+  pts.insert(pts.end(), clutter.begin(), clutter.end());
+  PlaneFitOptions o;
+  o.tolerance = 0.02f;
+  const std::vector<Plane> planes = FitPlanes(pts, o);
+  ASSERT_EQ(planes.size(), 2u);
+  EXPECT_GT(std::abs(planes[0].normal.y()), 0.999f) << "the floor holds the most points";
+  EXPECT_NEAR(planes[0].Distance(Eigen::Vector3f::Zero()), 0.8f, 1e-3);
+  EXPECT_GT(std::abs(planes[1].normal.z()), 0.999f);
+  EXPECT_NEAR(planes[1].Distance(Eigen::Vector3f::Zero()), 4.0f, 1e-3);
+  for (const auto& p : clutter)
+    for (const Plane& pl : planes) EXPECT_FALSE(OnPlane(pl, p, o)) << p.transpose();
+  // Same input, same planes (fixed RANSAC seed).
+  const std::vector<Plane> again = FitPlanes(pts, o);
+  ASSERT_EQ(again.size(), planes.size());
+  EXPECT_EQ(again[0].normal, planes[0].normal);
+  // Too few points for any plane.
+  EXPECT_TRUE(FitPlanes(std::vector<Eigen::Vector3f>(clutter.begin(), clutter.begin() + 20), o).empty());
+}
+
+// A slanted face (1.8 to 2.2 m) standing on a floor 0.8 m below the camera, a wall
+// at 4 m behind; the box is drawn 20 px wider than the face on each side.
+TEST(ObserveObject, FloorInTheBoxIsBackgroundNotObject) {
+  const Camera cam(Pinhole());
+  const PixelRays rays(cam);
+  cv::Mat depth(480, 640, CV_16UC1);
+  const auto face_z = [](int u) { return 1.8 + 0.4 * (u - 250) / 140.0; };
+  for (int v = 0; v < 480; ++v)
+    for (int u = 0; u < 640; ++u) {
+      double z = v > 339.5 ? 400.0 / (v - 239.5) : 4.0;  // floor below the horizon's wall line, else wall
+      if (u >= 250 && u < 390 && v >= 200 && v <= 239.5 + 400.0 / face_z(u)) z = face_z(u);
+      depth.at<std::uint16_t>(v, u) = static_cast<std::uint16_t>(std::lround(z * 5000));
+    }
+  const Detection d{56, "chair", 0.8f, cv::Rect2f(230, 180, 180, 290)};
+  const auto extent = [&](const SemanticConfig& c) {
+    const auto obs = ObserveObject(d, depth, 5000, rays, c);
+    EXPECT_TRUE(obs.has_value());
+    Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e9), hi = -lo;
+    for (const auto& p : obs ? obs->points_c : std::vector<Eigen::Vector3f>{}) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    return std::pair(lo, hi);
+  };
+  SemanticConfig c;
+  const auto [lo, hi] = extent(c);
+  // The face spans x = -69.5 * 1.8 / 500 = -0.25 to 70.5 * 2.2 / 500 = 0.31 m.
+  EXPECT_NEAR(lo.x(), -0.25, 0.03);
+  EXPECT_NEAR(hi.x(), 0.31, 0.03);
+  EXPECT_GT(lo.z(), 1.77);
+  EXPECT_LT(hi.y(), 0.8);
+  // Without the step the floor in the box border widens and deepens the object.
+  c.object_background_planes = 0;
+  const auto [lo0, hi0] = extent(c);
+  EXPECT_LT(lo0.x(), -0.3);
+  EXPECT_LT(lo0.z(), 1.76);
 }
 
 TEST(ObjectDatabase, MergesViewsOfOneObjectAndKeepsOthersApart) {

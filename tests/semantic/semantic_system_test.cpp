@@ -153,18 +153,19 @@ class SemanticSystem : public ::testing::Test {
 };
 
 // The bar is 5 cm centroid and 10 cm size error. Surface samples from one
-// side of the room cannot see an object's back, and the depth band of the box lets
-// in the floor and walls just behind low wide objects, so today the test holds the
-// system to what it does reach: every object found once with its class, heights
-// (the ground-truth z axis, fully visible) within 10 cm for most objects, centroids
-// within 0.45 m. Tighten as the estimate improves.
+// side of the room cannot see an object's back, so the test holds the system to
+// what it does reach (seed 1, background planes removed; measured worst case in
+// brackets): every object found once with its class, centroids within 0.15 m
+// [0.12], every axis of the size within 0.15 m [0.19: a pot's base lost with the
+// floor] for at least 3/4 of the objects, heights within 10 cm for 3/4.
+// Tighten as the estimate improves.
 TEST_F(SemanticSystem, ObjectsPresetGivesEveryObjectOnceWithItsClassAndHeight) {
   const fs::path seq = Generate("objects");
   const Result r = RunOn(seq);
   std::ifstream in(seq / "objects_gt.json");
   const nlohmann::json gt = nlohmann::json::parse(in);
   std::map<int, int> matched;  // gt id -> exported objects matched to it
-  int exported = 0, height_ok = 0;
+  int exported = 0, height_ok = 0, size_ok = 0;
   for (const ObjectEstimate& o : r.objects) {
     if (!o.exported) continue;
     ++exported;
@@ -183,12 +184,14 @@ TEST_F(SemanticSystem, ObjectsPresetGivesEveryObjectOnceWithItsClassAndHeight) {
     }
     ASSERT_GE(best_id, 0) << o.class_name << " is not in the scene";
     ++matched[best_id];
-    EXPECT_LT(best, 0.45) << o.class_name << " " << o.id << ": centroid " << o.centroid.transpose();
+    EXPECT_LT(best, 0.15) << o.class_name << " " << o.id << ": centroid " << o.centroid.transpose();
     height_ok += std::abs(o.size.z() - best_size.z()) < 0.10;
+    size_ok += (o.size - best_size).cwiseAbs().maxCoeff() < 0.15;
   }
   for (const auto& [id, n] : matched) EXPECT_EQ(n, 1) << "ground-truth object " << id << " found " << n << " times";
   EXPECT_GE(exported, static_cast<int>(gt["objects"].size()) - 2) << "objects missing";
   EXPECT_GE(height_ok, exported * 3 / 4) << "heights within 10 cm";
+  EXPECT_GE(size_ok, exported * 3 / 4) << "sizes within 15 cm on every axis";
 }
 
 TEST_F(SemanticSystem, WalkersLeaveNoTraceInTheCloudAndTheOctoMap) {

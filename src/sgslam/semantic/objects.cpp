@@ -5,6 +5,7 @@
 
 #include "sgslam/common/stats.h"
 #include "sgslam/map/keyframe.h"
+#include "sgslam/semantic/background_planes.h"
 
 namespace sgslam {
 
@@ -17,6 +18,45 @@ double Volume(const Eigen::Vector3d& min, const Eigen::Vector3d& max) {
 
 bool Inside(const Eigen::Vector3d& p, const Eigen::Vector3d& min, const Eigen::Vector3d& max) {
   return (p.array() >= min.array()).all() && (p.array() <= max.array()).all();
+}
+
+// Floor and walls continue outside the box; fitted there, their points inside
+// the box are dropped (see background_planes.h).
+void RemoveBackgroundPlanes(const cv::Rect2f& b, const cv::Rect& full, const cv::Mat& depth_raw, double depth_factor,
+                            const PixelRays& rays, const SemanticConfig& config, double depth,
+                            std::vector<Eigen::Vector3f>& points) {
+  const cv::Rect image(0, 0, depth_raw.cols, depth_raw.rows);
+  const int mx = std::max(6, static_cast<int>(std::lround(b.width * config.object_ring)));
+  const int my = std::max(6, static_cast<int>(std::lround(b.height * config.object_ring)));
+  const cv::Rect outer = cv::Rect(full.x - mx, full.y - my, full.width + 2 * mx, full.height + 2 * my) & image;
+  const int ring_area = outer.area() - full.area();
+  if (ring_area <= 0) return;
+  const int step = std::max(1, static_cast<int>(std::sqrt(ring_area / (2.0 * config.object_max_points))));
+  std::vector<Eigen::Vector3f> ring;
+  for (int v = outer.y; v < outer.y + outer.height; v += step) {
+    const std::uint16_t* d = depth_raw.ptr<std::uint16_t>(v);
+    for (int u = outer.x; u < outer.x + outer.width; u += step) {
+      if (full.contains(cv::Point(u, v)) || d[u] == 0) continue;
+      const double z = d[u] / depth_factor;
+      if (z < config.depth_min || z > config.depth_max) continue;
+      const cv::Vec2f& r = rays.at(u, v);
+      ring.emplace_back(r[0] * static_cast<float>(z), r[1] * static_cast<float>(z), static_cast<float>(z));
+    }
+  }
+  PlaneFitOptions options;
+  options.max_planes = config.object_background_planes;
+  options.tolerance =
+      static_cast<float>(config.object_plane_tolerance + config.object_plane_tolerance_quadratic * depth * depth);
+  for (const Plane& plane : FitPlanes(ring, options)) {
+    std::vector<Eigen::Vector3f> kept;
+    kept.reserve(points.size());
+    for (const auto& p : points)
+      if (!OnPlane(plane, p, options)) kept.push_back(p);
+    const double removed = static_cast<double>(points.size() - kept.size());
+    if (removed > config.object_plane_max_share * static_cast<double>(points.size())) continue;
+    if (static_cast<int>(kept.size()) < config.object_min_points) continue;
+    points.swap(kept);
+  }
 }
 
 }  // namespace
@@ -67,6 +107,7 @@ std::optional<ObjectObservation> ObserveObject(const Detection& detection, const
     const auto z = static_cast<float>(depths[i]);
     points.emplace_back(r[0] * z, r[1] * z, z);
   }
+  if (config.object_background_planes > 0) RemoveBackgroundPlanes(b, full, depth_raw, depth_factor, rays, config, median, points);
   // 3-D outliers: points much further from the median point than the others.
   if (points.size() >= 3) {
     Eigen::Vector3f m;

@@ -34,6 +34,11 @@ void SemanticConfig::Validate(ConfigChecker& c) const {
   c.InRange("object_min_observations", object_min_observations, 1, 1000);
   c.InRange("object_merge_margin", object_merge_margin, 0.0, 10.0);
   c.InRange("object_border", object_border, 0, 1000);
+  c.InRange("object_background_planes", object_background_planes, 0, 5);
+  c.InRange("object_ring", object_ring, 0.0, 1.0);
+  c.InRange("object_plane_tolerance", object_plane_tolerance, 0.0, 1.0);
+  c.InRange("object_plane_tolerance_quadratic", object_plane_tolerance_quadratic, 0.0, 1.0);
+  c.InRange("object_plane_max_share", object_plane_max_share, 0.0, 1.0);
 }
 
 }  // namespace sgslam

@@ -49,6 +49,13 @@ struct SemanticConfig {
   double object_merge_margin = 0.1;  // m, association boxes are grown by this for the centre-inside test
   int object_border = 3;             // px, a box this close to the image edge is cut off: it may join an object, not start one
   int object_min_observations = 2;   // objects seen fewer times are not exported (one view is too little evidence)
+  // Background planes: floor and walls fitted in a ring around the box and
+  // removed inside it (they sit at the object's depth, so the MAD band keeps them).
+  int object_background_planes = 2;       // planes fitted per box; 0 turns the step off
+  double object_ring = 0.15;              // ring width as a share of the box size (at least 6 px)
+  double object_plane_tolerance = 0.01;   // m, distance to a plane counted as on it ...
+  double object_plane_tolerance_quadratic = 0.002;  // 1/m, ... plus this times the box depth^2 (Kinect noise ~ depth^2: 2-3 sigma)
+  double object_plane_max_share = 0.8;    // a plane holding more of the box points is the object's own face: kept
 
   template <class V>
   void Visit(V&& v) {
@@ -83,6 +90,11 @@ struct SemanticConfig {
     v("object_merge_margin", object_merge_margin, "m, association box growth");
     v("object_border", object_border, "px, boxes this close to the edge only join objects");
     v("object_min_observations", object_min_observations, "observations to export an object");
+    v("object_background_planes", object_background_planes, "background planes removed per box (0: off)");
+    v("object_ring", object_ring, "ring around the box for background planes, share of box size");
+    v("object_plane_tolerance", object_plane_tolerance, "m, on-plane distance");
+    v("object_plane_tolerance_quadratic", object_plane_tolerance_quadratic, "1/m, extra on-plane distance times depth^2");
+    v("object_plane_max_share", object_plane_max_share, "a plane with more of the box points is kept");
   }
   void Validate(ConfigChecker& c) const;
 };
