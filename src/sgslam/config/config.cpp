@@ -62,7 +62,7 @@ void MappingConfig::Validate(ConfigChecker& c) const {
   c.InRange("ba_max_local_keyframes", ba_max_local_keyframes, 2, 10000);
   c.InRange("redundant_ratio", redundant_ratio, 0.5, 1.0);
   c.InRange("queue_size", queue_size, 1, 100);
-  c.InRange("sequential_busy_frames", sequential_busy_frames, 0, 1000);
+  c.InRange("busy_frames", busy_frames, 0, 1000);
 }
 
 void Config::Validate(const std::string& source) const {

@@ -93,9 +93,11 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
   report.rejected = frame.rejected;
 
   watch.Restart();
-  const bool idle = sequential_ ? frame.id >= last_keyframe_frame_id_ +
-                                              static_cast<std::uint64_t>(config_.mapping.sequential_busy_frames)
-                                : (!mapping_busy_ && queue_.size() == 0);
+  // Local mapping counts as idle busy_frames after the last keyframe (see
+  // MappingConfig::busy_frames); in parallel also whenever it really is idle.
+  // A keyframe queued while its BA runs interrupts it (the mapper's interrupted()).
+  const bool waited = frame.id >= last_keyframe_frame_id_ + static_cast<std::uint64_t>(config_.mapping.busy_frames);
+  const bool idle = sequential_ ? waited : (queue_.size() == 0 && (!mapping_busy_ || waited));
   const TrackResult result = tracker_.Track(frame, idle, sequential_ ? 0 : queue_.size());
   report.state = result.state;
   report.matches = result.matches;

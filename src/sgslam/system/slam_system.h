@@ -101,7 +101,7 @@ class SlamSystem {
   };
   std::vector<PoseRecord> records_;
   std::uint64_t next_frame_id_ = 0;
-  std::uint64_t last_keyframe_frame_id_ = 0;  // --sequential: emulates the mapping thread's busy time
+  std::uint64_t last_keyframe_frame_id_ = 0;  // for MappingConfig::busy_frames
 
   std::unique_ptr<SemanticMapper> semantic_;  // fed by local mapping with refined keyframes
   BoundedQueue<SemanticInput> queue_;         // keyframes (with their images) for local mapping
