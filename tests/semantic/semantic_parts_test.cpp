@@ -80,6 +80,30 @@ TEST(DynamicPixelMask, PersonBoxesAndRejectedKeypointsButNotChairs) {
   EXPECT_EQ(m.at<std::uint8_t>(400, 100), 0);    // kept keypoint
 }
 
+TEST(DynamicPixelMask, MasksTheWholeDepthSegmentWhereMostKeypointsMoved) {
+  DetectorConfig dc;
+  const ClassTable classes(dc);
+  const cv::Mat depth = BoxBeforeWall();  // face at 2 m on [200, 300) x [150, 330), wall at 4 m
+  SemanticConfig c;
+  c.motion_radius = 0;  // the segments alone
+  std::vector<cv::KeyPoint> keys;
+  for (int k = 0; k < 4; ++k) keys.emplace_back(220.f + 20.f * static_cast<float>(k), 170.f, 7.f);  // top of the face
+  keys.emplace_back(250.f, 300.f, 7.f);  // one kept on the face
+  keys.emplace_back(500.f, 400.f, 7.f);  // kept on the wall
+  std::vector<std::uint8_t> rejected = {1, 1, 1, 1, 0, 0};
+  cv::Mat m = DynamicPixelMask(depth, 5000, {}, classes, keys, rejected, c);
+  EXPECT_EQ(m.at<std::uint8_t>(320, 210), 255);  // the far corner of the face, 150 px from the votes
+  EXPECT_EQ(m.at<std::uint8_t>(240, 350), 0);    // wall
+  EXPECT_EQ(m.at<std::uint8_t>(100, 250), 0);    // wall above the face
+  // Rejected keypoints in the minority of their segment: noise, not a moving object.
+  for (int k = 0; k < 5; ++k) {
+    keys.emplace_back(210.f + 20.f * static_cast<float>(k), 250.f, 7.f);
+    rejected.push_back(0);
+  }
+  m = DynamicPixelMask(depth, 5000, {}, classes, keys, rejected, c);
+  EXPECT_EQ(cv::countNonZero(m), 0);
+}
+
 TEST(ObserveObject, TakesTheObjectDepthsOfTheWholeBox) {
   const Camera cam(Pinhole());
   const PixelRays rays(cam);

@@ -5,6 +5,71 @@
 
 namespace sgslam {
 
+namespace {
+
+int Find(std::vector<int>& parent, int i) {
+  while (parent[i] != i) i = parent[i] = parent[parent[i]];
+  return i;
+}
+
+// Depth segments on a grid (union-find over 4-neighbours whose depths differ by
+// less than the jump tolerance); each segment where enough keypoints were
+// rejected, and most of its keypoints, is masked whole.
+void MaskMovingSegments(const cv::Mat& depth_raw, double depth_factor, const std::vector<cv::KeyPoint>& keys,
+                        const std::vector<std::uint8_t>& rejected, const SemanticConfig& config, cv::Mat& mask) {
+  const int step = config.motion_segment_step;
+  const int gw = (depth_raw.cols + step - 1) / step, gh = (depth_raw.rows + step - 1) / step;
+  std::vector<float> z(static_cast<std::size_t>(gw) * gh);
+  for (int gy = 0; gy < gh; ++gy)
+    for (int gx = 0; gx < gw; ++gx)
+      z[gy * gw + gx] = static_cast<float>(depth_raw.at<std::uint16_t>(gy * step, gx * step) / depth_factor);
+  std::vector<int> parent(z.size());
+  for (std::size_t i = 0; i < parent.size(); ++i) parent[i] = static_cast<int>(i);
+  const auto join = [&](int a, int b) {
+    const float za = z[a], zb = z[b];
+    if (za <= 0 || zb <= 0) return;
+    const double zm = std::min(za, zb);
+    if (std::abs(za - zb) > config.motion_segment_jump + config.motion_segment_jump_quadratic * zm * zm) return;
+    parent[Find(parent, a)] = Find(parent, b);
+  };
+  for (int gy = 0; gy < gh; ++gy)
+    for (int gx = 0; gx < gw; ++gx) {
+      const int i = gy * gw + gx;
+      if (gx + 1 < gw) join(i, i + 1);
+      if (gy + 1 < gh) join(i, i + gw);
+    }
+  std::vector<int> area(z.size(), 0), votes(z.size(), 0), keys_in(z.size(), 0);
+  for (std::size_t i = 0; i < z.size(); ++i)
+    if (z[i] > 0) ++area[Find(parent, static_cast<int>(i))];
+  for (std::size_t k = 0; k < keys.size(); ++k) {
+    const int gx = cvRound(keys[k].pt.x / step), gy = cvRound(keys[k].pt.y / step);
+    if (gx < 0 || gy < 0 || gx >= gw || gy >= gh || z[gy * gw + gx] <= 0) continue;
+    const int root = Find(parent, gy * gw + gx);
+    ++keys_in[root];
+    votes[root] += rejected[k] ? 1 : 0;
+  }
+  const double max_area = config.motion_segment_max_area * static_cast<double>(z.size());
+  std::vector<std::uint8_t> moving(z.size(), 0);
+  bool any = false;
+  for (std::size_t r = 0; r < z.size(); ++r) {
+    if (votes[r] < config.motion_segment_min_votes || area[r] > max_area) continue;
+    if (votes[r] < config.motion_segment_min_share * keys_in[r]) continue;
+    moving[r] = 1;
+    any = true;
+  }
+  if (!any) return;
+  std::vector<std::uint8_t> cell(z.size(), 0);
+  for (std::size_t i = 0; i < z.size(); ++i) cell[i] = z[i] > 0 && moving[Find(parent, static_cast<int>(i))];
+  for (int y = 0; y < depth_raw.rows; ++y) {
+    std::uint8_t* m = mask.ptr<std::uint8_t>(y);
+    const std::uint8_t* row = &cell[static_cast<std::size_t>(std::min(gh - 1, (y + step / 2) / step)) * gw];
+    for (int x = 0; x < depth_raw.cols; ++x)
+      if (row[std::min(gw - 1, (x + step / 2) / step)]) m[x] = 255;
+  }
+}
+
+}  // namespace
+
 cv::Mat DynamicPixelMask(const cv::Mat& depth_raw, double depth_factor, const std::vector<Detection>& detections,
                          const ClassTable& classes, const std::vector<cv::KeyPoint>& keys,
                          const std::vector<std::uint8_t>& rejected, const SemanticConfig& config) {
@@ -23,7 +88,9 @@ cv::Mat DynamicPixelMask(const cv::Mat& depth_raw, double depth_factor, const st
     mask(r).setTo(255);
     boxes.push_back(r);
   }
-  if (rejected.size() != keys.size() || config.motion_radius <= 0) return mask;
+  if (rejected.size() != keys.size()) return mask;
+  if (config.motion_segments) MaskMovingSegments(depth_raw, depth_factor, keys, rejected, config, mask);
+  if (config.motion_radius <= 0) return mask;
   const int radius = config.motion_radius;
   const double band_raw = config.motion_depth_band * depth_factor;
   for (std::size_t i = 0; i < keys.size(); ++i) {

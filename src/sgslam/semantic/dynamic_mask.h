@@ -5,7 +5,10 @@
 //  - around each keypoint that tracking rejected as dynamic outside those boxes
 //    (motion the detector missed, e.g. an unknown moving box), the pixels within
 //    motion_radius whose depth lies within motion_depth_band of the keypoint's:
-//    the moving surface near the keypoint, not the background behind it.
+//    the moving surface near the keypoint, not the background behind it;
+//  - every smooth depth segment (of at most motion_segment_max_area of the image)
+//    where enough keypoints, and most of its keypoints, were rejected: the whole
+//    surface of an object that moves as one.
 #pragma once
 
 #include <opencv2/core.hpp>

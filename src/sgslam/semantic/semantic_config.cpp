@@ -11,6 +11,12 @@ void SemanticConfig::Validate(ConfigChecker& c) const {
   c.InRange("box_margin", box_margin, 0.0, 1.0);
   c.InRange("motion_radius", motion_radius, 0, 200);
   c.InRange("motion_depth_band", motion_depth_band, 0.0, 10.0);
+  c.InRange("motion_segment_step", motion_segment_step, 1, 64);
+  c.InRange("motion_segment_jump", motion_segment_jump, 0.0, 10.0);
+  c.InRange("motion_segment_jump_quadratic", motion_segment_jump_quadratic, 0.0, 10.0);
+  c.InRange("motion_segment_min_votes", motion_segment_min_votes, 1, 100000);
+  c.InRange("motion_segment_min_share", motion_segment_min_share, 0.0, 1.0);
+  c.InRange("motion_segment_max_area", motion_segment_max_area, 0.0, 1.0);
   c.InRange("consistency_tolerance", consistency_tolerance, 0.0, 10.0);
   c.InRange("consistency_tolerance_quadratic", consistency_tolerance_quadratic, 0.0, 10.0);
   c.InRange("consistency_min_votes", consistency_min_votes, 1, 1000);

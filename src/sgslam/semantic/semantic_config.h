@@ -22,6 +22,16 @@ struct SemanticConfig {
   double box_margin = 0.05;     // share of the box size added on each side of dynamic boxes before masking
   int motion_radius = 25;       // px, pixels around a rejected keypoint outside boxes that may be masked
   double motion_depth_band = 0.15;  // m, ... when their depth is within this of the keypoint's
+  // Moving segments: the depth image cut into smooth connected regions (on a
+  // grid of this step); a region where most keypoints were rejected is masked
+  // whole (an object the detector does not know moves as one surface).
+  bool motion_segments = true;
+  int motion_segment_step = 4;                 // px, grid step of the segmentation
+  double motion_segment_jump = 0.02;           // m, depth step between grid neighbours that still joins them ...
+  double motion_segment_jump_quadratic = 0.02; // 1/m, ... plus this times depth^2
+  int motion_segment_min_votes = 3;            // rejected keypoints a region needs
+  double motion_segment_min_share = 0.5;       // share of its keypoints that were rejected
+  double motion_segment_max_area = 0.5;        // share of the image, larger regions are background (walls, floor)
   bool free_space_filter = true;    // drop cloud points whose OctoMap voxel ended up free (moved away)
   // Multi-view consistency on export: a cloud point that other keyframes see
   // through (their depth at its pixel is clearly behind it) was something that
@@ -69,6 +79,13 @@ struct SemanticConfig {
     v("box_margin", box_margin, "share of box size added around dynamic boxes");
     v("motion_radius", motion_radius, "px, mask radius around rejected keypoints outside boxes");
     v("motion_depth_band", motion_depth_band, "m, depth band of that mask");
+    v("motion_segments", motion_segments, "mask depth segments where most keypoints were rejected");
+    v("motion_segment_step", motion_segment_step, "px, grid step of the depth segmentation");
+    v("motion_segment_jump", motion_segment_jump, "m, depth step joining grid neighbours");
+    v("motion_segment_jump_quadratic", motion_segment_jump_quadratic, "1/m, extra depth step times depth^2");
+    v("motion_segment_min_votes", motion_segment_min_votes, "rejected keypoints to mask a segment");
+    v("motion_segment_min_share", motion_segment_min_share, "share of rejected keypoints to mask a segment");
+    v("motion_segment_max_area", motion_segment_max_area, "image share above which a segment is background");
     v("free_space_filter", free_space_filter, "drop cloud points in voxels the OctoMap saw free");
     v("consistency_filter", consistency_filter, "drop cloud points other keyframes see through; rebuild the OctoMap");
     v("consistency_tolerance", consistency_tolerance, "m, depth margin of the see-through test");
