@@ -105,7 +105,7 @@ struct TrackingConfig {
   int close_tracked_min = 100;         // need a keyframe when fewer close points are tracked ...
   int close_untracked_min = 70;        // ... and at least this many close points are not
   int keyframe_min_new_points = 100;   // points created per keyframe beyond the close range
-  bool skip_outlier_depth_points = true;  // no new keyframe point from a keypoint whose map match was a pose outlier
+  bool skip_outlier_depth_points = true;  // no new keyframe point from a pose-outlier keypoint (dynamic modes only)
 
   template <class V>
   void Visit(V&& v) {

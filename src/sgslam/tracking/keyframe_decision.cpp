@@ -59,8 +59,9 @@ int Tracker::AddDepthPoints(Frame& frame, const std::shared_ptr<KeyFrame>& kf, b
   for (std::size_t i = 0; i < f.size(); ++i) {
     // A keypoint matched to a map point but an outlier of the pose optimisation
     // disagrees with the map: on a moving object it would re-enter the map at
-    // every keyframe at its new place (the unknown box of dyn_dev did).
-    const bool suspect = frame.map_points[i] && frame.outlier[i];
+    // every keyframe at its new place (the unknown box of dyn_dev did). Only with
+    // dynamic rejection on (labels present): mode none stays ORB-SLAM2's rule.
+    const bool suspect = frame.map_points[i] && frame.outlier[i] && !f.dynamic.empty();
     if (f.depth[i] > 0 && !frame.rejected[i] && !(suspect && config_.tracking.skip_outlier_depth_points)) {
       by_depth.emplace_back(f.depth[i], i);
     }
