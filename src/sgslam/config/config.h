@@ -105,6 +105,7 @@ struct TrackingConfig {
   int close_tracked_min = 100;         // need a keyframe when fewer close points are tracked ...
   int close_untracked_min = 70;        // ... and at least this many close points are not
   int keyframe_min_new_points = 100;   // points created per keyframe beyond the close range
+  bool skip_outlier_depth_points = true;  // no new keyframe point from a pose-outlier keypoint (dynamic modes only)
 
   template <class V>
   void Visit(V&& v) {
@@ -120,6 +121,7 @@ struct TrackingConfig {
     v("close_tracked_min", close_tracked_min, "close points tracked, keyframe rule");
     v("close_untracked_min", close_untracked_min, "close points untracked, keyframe rule");
     v("keyframe_min_new_points", keyframe_min_new_points, "points created per keyframe");
+    v("skip_outlier_depth_points", skip_outlier_depth_points, "no keyframe point from a pose-outlier keypoint");
   }
   void Validate(ConfigChecker& c) const;
 };

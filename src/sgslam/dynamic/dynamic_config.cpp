@@ -31,6 +31,14 @@ void DynamicConfig::Validate(ConfigChecker& c) const {
   c.InRange("depth_tolerance", depth_tolerance, 0.0, 10.0);
   c.InRange("depth_tolerance_quadratic", depth_tolerance_quadratic, 0.0, 1.0);
   c.InRange("reprojection_tolerance", reprojection_tolerance, 0.0, 1000.0);
+  c.InRange("track_radius", track_radius, 0.1, 50.0);
+  c.InRange("track_min_age", track_min_age, 1, 1000);
+  c.Check(track_max_age >= track_min_age, "track_max_age", track_max_age, "must be >= track_min_age");
+  c.InRange("track_tolerance", track_tolerance, 0.0, 1000.0);
+  c.InRange("track_growth", track_growth, 0.0, 100.0);
+  c.InRange("track_fit_threshold", track_fit_threshold, 0.1, 50.0);
+  c.InRange("unjudged_radius", unjudged_radius, 0.0, 640.0);
+  c.InRange("unjudged_share", unjudged_share, 0.0, 1.0);
   c.Positive("depth_min", depth_min);
   c.Check(depth_max > depth_min, "depth_max", depth_max, "must be > depth_min");
 }

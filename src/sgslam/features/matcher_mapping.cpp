@@ -1,5 +1,8 @@
 // The matcher functions local mapping uses: fusion of duplicate points and the
-// search for new correspondences to triangulate.
+// search for new correspondences to triangulate. Keypoints that tracking rejected
+// as dynamic (Features::dynamic) are never used: tracking neither matches nor maps
+// them, and local mapping must not either (fusing a map point into a moving
+// keypoint, or triangulating two of them, puts the mover back into the map).
 #include <algorithm>
 #include <cmath>
 
@@ -7,6 +10,10 @@
 #include "sgslam/features/matcher.h"
 
 namespace sgslam::matcher {
+
+namespace {
+bool IsDynamic(const Features& f, std::size_t i) { return i < f.dynamic.size() && f.dynamic[i] != 0; }
+}  // namespace
 
 int Fuse(const std::shared_ptr<KeyFrame>& keyframe, const std::vector<std::shared_ptr<MapPoint>>& points, Map& map,
          double th) {
@@ -31,6 +38,7 @@ int Fuse(const std::shared_ptr<KeyFrame>& keyframe, const std::vector<std::share
     int best_dist = 256;
     std::size_t best = SIZE_MAX;
     for (std::size_t j : f.InArea(uv.x(), uv.y(), r)) {
+      if (IsDynamic(f, j)) continue;
       const int kl = f.keys_un[j].octave;
       if (kl < level - 1 || kl > level) continue;
       const double ex = uv.x() - f.keys_un[j].pt.x, ey = uv.y() - f.keys_un[j].pt.y;
@@ -72,12 +80,12 @@ std::vector<std::pair<std::size_t, std::size_t>> SearchForTriangulation(const Ke
 
   std::vector<std::size_t> free2;
   for (std::size_t j = 0; j < f2.size(); ++j) {
-    if (!kf2.map_point(j)) free2.push_back(j);
+    if (!kf2.map_point(j) && !IsDynamic(f2, j)) free2.push_back(j);
   }
   std::vector<int> best_for_2(f2.size(), 257);
   std::vector<std::size_t> match_of_2(f2.size(), SIZE_MAX);
   for (std::size_t i = 0; i < f1.size(); ++i) {
-    if (kf1.map_point(i)) continue;
+    if (kf1.map_point(i) || IsDynamic(f1, i)) continue;
     const cv::Point2f& x1 = f1.keys_un[i].pt;
     const Eigen::Vector3d line = F_21 * Eigen::Vector3d(x1.x, x1.y, 1.0);  // epipolar line in image 2
     const double norm2 = line.x() * line.x() + line.y() * line.y();

@@ -2,8 +2,13 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <cmath>
+#include <functional>
+
 #include "sgslam/camera/camera.h"
 #include "sgslam/common/stats.h"
+#include "sgslam/dynamic/neighbours.h"
 
 namespace sgslam {
 
@@ -38,6 +43,51 @@ void DynamicStage::Submit(std::uint64_t frame_id, Timestamp t, const cv::Mat& bg
 
 DetectionWorkerStats DynamicStage::detector_stats() const { return worker_ ? worker_->stats() : DetectionWorkerStats{}; }
 
+int DynamicStage::ApplyMultiFrameChecks(const std::vector<cv::KeyPoint>& keys,
+                                        const std::vector<dynamic::TrackVerdict>& tracks,
+                                        dynamic::RejectionResult& r) {
+  const DynamicConfig& c = config_.dynamic;
+  // The fallback's minimum stays kept: the most moving-looking go first.
+  const int min_kept = static_cast<int>(std::ceil(c.min_kept_ratio * static_cast<double>(keys.size())));
+  int budget = std::max(0, r.kept - min_kept);
+  const auto reject = [&](std::vector<std::size_t> idx, const std::function<double(std::size_t)>& score) {
+    if (static_cast<int>(idx.size()) > budget) {
+      std::stable_sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) { return score(a) > score(b); });
+      idx.resize(static_cast<std::size_t>(budget));
+    }
+    for (std::size_t i : idx) r.keypoints[i].kept = false, r.keypoints[i].why = dynamic::Why::kDepth;
+    budget -= static_cast<int>(idx.size());
+    return static_cast<int>(idx.size());
+  };
+  int rejected = 0;
+  if (c.track_check && tracks.size() == keys.size()) {
+    std::vector<std::size_t> moving;
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+      if (tracks[i].moving && r.keypoints[i].kept) moving.push_back(i);
+    }
+    rejected += reject(moving, [&](std::size_t i) { return tracks[i].residual; });
+  }
+  if (c.track_rescue && tracks.size() == keys.size()) {
+    // Inside a dynamic box (w > 1) a static point is rejected at d >= eps_std / w
+    // (0.6 px at w = 5: most of the static points in a person box on fr1); a track
+    // that has stayed on its anchor for several frames is static whatever its box.
+    int restored = 0;
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+      dynamic::KeypointVerdict& v = r.keypoints[i];
+      if (v.kept || v.why != dynamic::Why::kGeometry || v.weight <= 1.0) continue;
+      if (tracks[i].age < c.track_min_age || tracks[i].moving || tracks[i].residual > c.track_rescue_tolerance) continue;
+      v.kept = true, v.why = dynamic::Why::kFallback;
+      ++restored;
+    }
+    r.kept += restored, r.rejected_geometry -= restored, budget += restored;
+  }
+  if (c.unjudged_radius > 0) {
+    rejected += reject(dynamic::UnjudgedAmongMovers(keys, r.keypoints, c.unjudged_radius, c.unjudged_share, 2),
+                       [](std::size_t) { return 0.0; });
+  }
+  return rejected;
+}
+
 DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, const cv::Mat& depth_raw,
                                    const std::vector<cv::KeyPoint>& keys, const std::optional<SE3>& T_cur_prev) {
   DynamicOutcome out;
@@ -59,6 +109,15 @@ DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, 
       if (undistort_) undistort = [table = undistort_](std::vector<cv::Point2f>& p) { table->Apply(p); };
       pairs = dynamic::TrackPairs(prev_, cur, keys, config_.dynamic, undistort);
     }
+  }
+  // The keypoint tracks need no boxes either (track_memory.h).
+  std::vector<dynamic::TrackVerdict> tracks;
+  const DynamicConfig& dc = config_.dynamic;
+  const bool use_tracks = mode_ != dynamic::Mode::kSemantic && (dc.track_check || dc.track_rescue || dc.track_motion);
+  if (use_tracks) {
+    const dynamic::Pinhole K{camera_->fx(), camera_->fy(), camera_->cx(), camera_->cy()};
+    tracks = tracks_.Update(keys, pairs.cur_un, pairs.flow, pairs.prev_un, depth_raw, config_.camera.depth_factor, K,
+                            T_cur_prev, config_.dynamic);
   }
   const double flow_ms = flow_watch.ElapsedMs();
 
@@ -88,17 +147,26 @@ DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, 
   if (first && mode_ == dynamic::Mode::kSg) dyn.mode = "semantic";  // no flow yet: boxes are the only evidence
   if (!first || mode_ == dynamic::Mode::kSemantic || mode_ == dynamic::Mode::kSg) {
     std::optional<dynamic::DepthCheckInput> depth;
+    // The anchors' motion replaces the two-frame PnP of the RGB-D check (see track_memory.h).
+    const bool from_tracks = use_tracks && tracks_.motion_from_tracks() && config_.dynamic.track_motion;
+    if (from_tracks) dyn.depth_motion = "tracker";
     const bool pnp = dyn.depth_motion == "pnp";
-    if (dyn.depth_check && (pnp || T_cur_prev) && !prev_depth_.empty()) {
+    if (dyn.depth_check && (pnp || from_tracks || T_cur_prev) && !prev_depth_.empty()) {
       depth.emplace();
       depth->prev_depth = prev_depth_;
       depth->cur_depth = depth_raw;
       depth->depth_factor = config_.camera.depth_factor;
       depth->K = {camera_->fx(), camera_->fy(), camera_->cx(), camera_->cy()};
-      if (T_cur_prev) depth->T_cur_prev = *T_cur_prev;  // pnp: replaced by the PnP estimate
+      if (from_tracks) depth->T_cur_prev = *tracks_.motion();
+      else if (T_cur_prev) depth->T_cur_prev = *T_cur_prev;  // pnp: replaced by the PnP estimate
     }
-    const dynamic::RejectionResult r = dynamic::JudgePairs(pairs, keys, out.detections, weight, dyn,
-                                                           depth ? &*depth : nullptr, prior_.cell > 0 ? &prior_ : nullptr);
+    dynamic::RejectionResult r = dynamic::JudgePairs(pairs, keys, out.detections, weight, dyn,
+                                                     depth ? &*depth : nullptr, prior_.cell > 0 ? &prior_ : nullptr);
+    if (mode_ != dynamic::Mode::kSemantic) {
+      out.rejected_track = ApplyMultiFrameChecks(keys, tracks, r);
+      r.kept -= out.rejected_track;
+      r.rejected_depth += out.rejected_track;
+    }
     for (std::size_t i = 0; i < keys.size(); ++i) out.dynamic[i] = r.keypoints[i].kept ? 0 : 1;
     out.kept = r.kept;
     out.rejected_geometry = r.rejected_geometry;

@@ -6,8 +6,14 @@
 //
 // Mode none skips everything; geometric never needs the detector; semantic and sg
 // use it when one is given, else they degrade (semantic to none, sg to geometric)
-// with one warning. The current LK pyramid is kept as the next frame's previous
-// one, so each image's pyramid is built once.
+// with one warning. On top of Algorithm 1, in geometric and sg modes and only when
+// configured (all off by default, see dynamic_config.h for the measurements): the
+// multi-frame track check (track_memory.h) rejects kept keypoints whose track moved
+// over several frames, track_rescue keeps geometry-rejected keypoints in dynamic
+// boxes whose track stayed put, and unjudged keypoints among rejected neighbours
+// are rejected (neighbours.h); the fallback's minimum always stays kept. The
+// current LK pyramid is kept as the next frame's previous one, so each image's
+// pyramid is built once.
 //
 // Threading: all calls from the tracking thread; the detector runs on the
 // DetectionWorker's thread (or inside Submit in sequential mode).
@@ -26,6 +32,7 @@
 #include "sgslam/detection/detection_worker.h"
 #include "sgslam/detection/detector.h"
 #include "sgslam/dynamic/rejection.h"
+#include "sgslam/dynamic/track_memory.h"
 #include "sgslam/dynamic/undistort_table.h"
 
 namespace sgslam {
@@ -36,6 +43,7 @@ struct DynamicOutcome {
   std::vector<std::uint8_t> dynamic;  // per keypoint: 1 = rejected (never tracked nor mapped)
   std::vector<Detection> detections;  // of this frame (empty without a detector or when late)
   int kept = 0, rejected_geometry = 0, rejected_semantics = 0, rejected_depth = 0;
+  int rejected_track = 0;     // of rejected_depth: by the checks on top of Algorithm 1 (tracks, unjudged)
   bool judged = false;        // Algorithm 1 ran (not the first frame, mode not none)
   bool detector_used = false;  // a detector is attached
   bool detector_late = false;  // the wait timed out or the frame was dropped
@@ -65,6 +73,11 @@ class DynamicStage {
   DetectionWorkerStats detector_stats() const;
 
  private:
+  // The checks on top of Algorithm 1's verdicts r (track_memory.h, neighbours.h);
+  // returns how many kept keypoints they rejected.
+  int ApplyMultiFrameChecks(const std::vector<cv::KeyPoint>& keys, const std::vector<dynamic::TrackVerdict>& tracks,
+                            dynamic::RejectionResult& r);
+
   const Config config_;
   const dynamic::Mode mode_;
   const bool wants_detector_;
@@ -75,6 +88,7 @@ class DynamicStage {
   dynamic::FlowFrame prev_;
   cv::Mat prev_depth_;
   dynamic::DynamicPrior prior_;  // config.dynamic.prior_cell: the previous frame's rejections
+  dynamic::TrackMemory tracks_;  // config.dynamic.track_check
 };
 
 }  // namespace sgslam

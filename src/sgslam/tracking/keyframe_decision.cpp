@@ -57,7 +57,14 @@ int Tracker::AddDepthPoints(Frame& frame, const std::shared_ptr<KeyFrame>& kf, b
   const Features& f = *frame.features;
   std::vector<std::pair<float, std::size_t>> by_depth;
   for (std::size_t i = 0; i < f.size(); ++i) {
-    if (f.depth[i] > 0 && !frame.rejected[i]) by_depth.emplace_back(f.depth[i], i);
+    // A keypoint matched to a map point but an outlier of the pose optimisation
+    // disagrees with the map: on a moving object it would re-enter the map at
+    // every keyframe at its new place (the unknown box of dyn_dev did). Only with
+    // dynamic rejection on (labels present): mode none stays ORB-SLAM2's rule.
+    const bool suspect = frame.map_points[i] && frame.outlier[i] && !f.dynamic.empty();
+    if (f.depth[i] > 0 && !frame.rejected[i] && !(suspect && config_.tracking.skip_outlier_depth_points)) {
+      by_depth.emplace_back(f.depth[i], i);
+    }
   }
   std::sort(by_depth.begin(), by_depth.end());
   const SE3 T_w_c = frame.T_c_w.Inverse();
