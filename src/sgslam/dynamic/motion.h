@@ -30,6 +30,12 @@ struct MotionEstimate {
   int inliers = 0;  // within config.motion_threshold px after the refit
 };
 
+// The PnP core shared with the keypoint tracks (track_memory.h): RANSAC on AP3P
+// minimal sets within `threshold` px, then the LM refit on its inliers. nullopt
+// when fewer than max(min_inliers, 6) points or min_inliers inliers.
+std::optional<SE3> SolvePnPMotion(const std::vector<cv::Point3f>& object, const std::vector<cv::Point2f>& image,
+                                  const Pinhole& K, int iterations, double threshold, int min_inliers);
+
 // prev_raw: previous positions as tracked (px, for the depth lookup); prev_un,
 // cur_un: the same pairs undistorted. use[i]: pair i may take part. nullopt when
 // fewer than config.motion_min_inliers pairs support a model.

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include <opencv2/calib3d.hpp>
+#include "sgslam/dynamic/motion.h"
 
 namespace sgslam::dynamic {
 
@@ -39,29 +39,10 @@ double CleanDepth(const cv::Mat& depth, cv::Point2f p, double depth_factor, cons
 std::optional<SE3> TrackMemory::FitMotion(const std::vector<Eigen::Vector3d>& anchors,
                                           const std::vector<cv::Point2f>& image, const Pinhole& K,
                                           const DynamicConfig& c) const {
-  if (static_cast<int>(anchors.size()) < std::max(c.motion_min_inliers, 6)) return std::nullopt;
   std::vector<cv::Point3f> object;
+  object.reserve(anchors.size());
   for (const auto& a : anchors) object.emplace_back(static_cast<float>(a.x()), static_cast<float>(a.y()), static_cast<float>(a.z()));
-  const cv::Matx33d Kcv(K.fx, 0, K.cx, 0, K.fy, K.cy, 0, 0, 1);
-  cv::Mat rvec, tvec;
-  std::vector<int> inliers;
-  // OpenCV seeds its RANSAC generator the same way on every call: deterministic.
-  if (!cv::solvePnPRansac(object, image, Kcv, cv::noArray(), rvec, tvec, false, c.motion_iterations,
-                          static_cast<float>(c.track_fit_threshold), 0.99, inliers, cv::SOLVEPNP_AP3P) ||
-      static_cast<int>(inliers.size()) < c.motion_min_inliers) {
-    return std::nullopt;
-  }
-  std::vector<cv::Point3f> in_object;
-  std::vector<cv::Point2f> in_image;
-  for (int j : inliers) in_object.push_back(object[static_cast<std::size_t>(j)]), in_image.push_back(image[static_cast<std::size_t>(j)]);
-  cv::solvePnPRefineLM(in_object, in_image, Kcv, cv::noArray(), rvec, tvec);
-  cv::Matx33d R;
-  cv::Rodrigues(rvec, R);
-  Eigen::Matrix3d Re;
-  for (int r = 0; r < 3; ++r) {
-    for (int k = 0; k < 3; ++k) Re(r, k) = R(r, k);
-  }
-  return SE3(Re, Eigen::Vector3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2)));
+  return SolvePnPMotion(object, image, K, c.motion_iterations, c.track_fit_threshold, c.motion_min_inliers);
 }
 
 int TrackMemory::Nearest(cv::Point2f p, double r) const {
