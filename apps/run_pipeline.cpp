@@ -1,11 +1,13 @@
 #include "run_pipeline.h"
 
+#include <unordered_map>
 #include <spdlog/spdlog.h>
 
 #include <atomic>
 #include <csignal>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <unordered_map>
 
 #include "progress.h"
 #include "sgslam/common/error.h"
@@ -167,6 +169,23 @@ RunSummary RunSequence(const RunOptions& o) {
                                 {"moving_share", share}};
       spdlog::info("dense cloud vs ground-truth masks ({} keyframes): {:.2f} % of {} points on moving pixels",
                    truth_cloud.keyframes, 100 * share, truth_cloud.points);
+      // The keyframes' depth images again, from disk: the semantic thread keeps none.
+      std::unordered_map<Timestamp, std::size_t> index_of;
+      for (std::size_t i = 0; i < dataset.size(); ++i) index_of[dataset.frames()[i].t_rgb] = i;
+      const auto truth_map = sem->ScoreOctoMap([&](Timestamp t) { return masks.Load(t).value_or(cv::Mat()); },
+                                               [&](Timestamp t) {
+                                                 const auto it = index_of.find(t);
+                                                 return it == index_of.end()
+                                                            ? cv::Mat()
+                                                            : dataset.Load(it->second, config.camera).depth;
+                                               });
+      const double occupied_share =
+          truth_map.path_cells > 0 ? static_cast<double>(truth_map.occupied) / truth_map.path_cells : 0.0;
+      semantic_json["truth"]["octomap_path_cells"] = truth_map.path_cells;
+      semantic_json["truth"]["octomap_path_cells_occupied"] = truth_map.occupied;
+      semantic_json["truth"]["octomap_path_occupied_share"] = occupied_share;
+      spdlog::info("OctoMap vs ground-truth masks: {} of {} cells on the movers' paths occupied ({:.2f} %)",
+                   truth_map.occupied, truth_map.path_cells, 100 * occupied_share);
     }
     if (st.dropped > 0) spdlog::warn("semantic mapping fell behind: {} keyframes left out of the map", st.dropped);
   }

@@ -98,6 +98,14 @@ bool OctoMapBuilder::IsFree(const Eigen::Vector3d& p_w) const {
   return node != nullptr && !tree_->isNodeOccupied(node);
 }
 
+bool OctoMapBuilder::IsOccupied(const Eigen::Vector3d& p_w) const {
+  const octomap::ColorOcTreeNode* node =
+      tree_->search(static_cast<double>(p_w.x()), static_cast<double>(p_w.y()), static_cast<double>(p_w.z()));
+  return node != nullptr && tree_->isNodeOccupied(node);
+}
+
+double OctoMapBuilder::resolution() const { return tree_->getResolution(); }
+
 std::size_t OctoMapBuilder::OccupiedLeaves() const {
   std::size_t n = 0;
   for (auto it = tree_->begin_leafs(), end = tree_->end_leafs(); it != end; ++it) {

@@ -39,6 +39,9 @@ class OctoMapBuilder {
   void Clear();
   // The voxel at p_w was observed and its occupancy ended below 0.5.
   bool IsFree(const Eigen::Vector3d& p_w) const;
+  // The voxel at p_w was observed and its occupancy ended above 0.5.
+  bool IsOccupied(const Eigen::Vector3d& p_w) const;
+  double resolution() const;
   std::size_t OccupiedLeaves() const;
   // Binary .bt (occupancy only, as octovis and octomap_server read it), atomically.
   // Throws InputError naming the file.

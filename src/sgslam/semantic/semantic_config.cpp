@@ -9,6 +9,12 @@ void SemanticConfig::Validate(ConfigChecker& c) const {
   c.InRange("cloud_stride", cloud_stride, 1, 64);
   c.InRange("cloud_voxel", cloud_voxel, 0.001, 1.0);
   c.InRange("box_margin", box_margin, 0.0, 1.0);
+  c.InRange("box_window", box_window, 0, 30);
+  c.InRange("box_window_growth", box_window_growth, 0.0, 100.0);
+  c.InRange("box_window_band", box_window_band, 0.0, 100.0);
+  c.InRange("box_window_max_area", box_window_max_area, 0.0, 1.0);
+  c.Check(box_window_history >= 2 * box_window + 1 && box_window_history <= 100000, "box_window_history",
+          box_window_history, "must be >= 2 * box_window + 1 and <= 100000");
   c.InRange("motion_radius", motion_radius, 0, 200);
   c.InRange("motion_depth_band", motion_depth_band, 0.0, 10.0);
   c.InRange("motion_segment_step", motion_segment_step, 1, 64);

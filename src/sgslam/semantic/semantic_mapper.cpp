@@ -3,7 +3,10 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cmath>
 #include <shared_mutex>
+#include <unordered_set>
 
 #include "sgslam/camera/camera.h"
 #include "sgslam/common/stats.h"
@@ -54,7 +57,8 @@ SemanticMapper::~SemanticMapper() { Finish(); }
 
 void SemanticMapper::Submit(SemanticInput input) {
   if (sequential_) {
-    ProcessKeyFrame(input);
+    queue_.push_back(std::move(input));
+    ProcessReady(false);
     return;
   }
   {
@@ -69,6 +73,63 @@ void SemanticMapper::Submit(SemanticInput input) {
   wake_.notify_one();
 }
 
+void SemanticMapper::AddFrame(std::uint64_t frame_id, const SE3& T_c_w, const std::vector<Detection>& detections,
+                              const cv::Mat& depth_raw) {
+  if (config_.semantic.box_window <= 0) return;
+  FrameBoxes f;
+  f.frame_id = frame_id;
+  f.T_c_w = T_c_w;
+  for (const Detection& d : detections) {
+    if (!classes_.is_dynamic(d.class_name)) continue;
+    f.boxes.push_back(d);
+    f.depth.push_back(BoxMedianDepth(depth_raw, config_.camera.depth_factor, d.box));
+  }
+  {
+    std::lock_guard lock(mutex_);
+    frames_.push_back(std::move(f));
+    while (frames_.size() > static_cast<std::size_t>(config_.semantic.box_window_history)) frames_.pop_front();
+    last_frame_id_ = frame_id;
+  }
+  if (sequential_) {
+    ProcessReady(false);
+  } else {
+    wake_.notify_one();
+  }
+}
+
+bool SemanticMapper::WindowComplete(std::uint64_t keyframe_frame_id) const {
+  const auto window = static_cast<std::uint64_t>(std::max(0, config_.semantic.box_window));
+  return window == 0 || (last_frame_id_ && *last_frame_id_ >= keyframe_frame_id + window);
+}
+
+std::vector<CarriedBox> SemanticMapper::CarriedBoxes(std::uint64_t keyframe_frame_id) const {
+  std::vector<CarriedBox> out;
+  const int window = config_.semantic.box_window;
+  if (window <= 0) return out;
+  const auto own = std::find_if(frames_.begin(), frames_.end(),
+                                [&](const FrameBoxes& f) { return f.frame_id == keyframe_frame_id; });
+  if (own == frames_.end()) return out;  // older than the history: its own boxes only
+  const cv::Size image(config_.camera.width, config_.camera.height);
+  for (const FrameBoxes& f : frames_) {
+    const auto distance = static_cast<double>(f.frame_id > keyframe_frame_id ? f.frame_id - keyframe_frame_id
+                                                                             : keyframe_frame_id - f.frame_id);
+    if (f.frame_id == keyframe_frame_id || distance > window || f.boxes.empty()) continue;
+    const std::vector<CarriedBox> carried = CarryBoxes(f, own->T_c_w, *camera_, image,
+                                                       config_.semantic.box_window_growth * distance,
+                                                       config_.semantic.box_window_max_area);
+    out.insert(out.end(), carried.begin(), carried.end());
+  }
+  return out;
+}
+
+void SemanticMapper::ProcessReady(bool all) {
+  while (!queue_.empty() && (all || WindowComplete(queue_.front().keyframe->frame_id))) {
+    const SemanticInput input = std::move(queue_.front());
+    queue_.pop_front();
+    ProcessKeyFrame(input, CarriedBoxes(input.keyframe->frame_id));
+  }
+}
+
 void SemanticMapper::Finish() {
   if (finished_) return;
   finished_ = true;
@@ -78,6 +139,7 @@ void SemanticMapper::Finish() {
   }
   wake_.notify_all();
   if (thread_.joinable()) thread_.join();
+  if (sequential_) ProcessReady(true);  // the last keyframes' windows end with the sequence
 }
 
 void SemanticMapper::Loop() {
@@ -86,18 +148,22 @@ void SemanticMapper::Loop() {
   if (config_.semantic.low_priority) setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 19);
   for (;;) {
     SemanticInput input;
+    std::vector<CarriedBox> carried;
     {
       std::unique_lock lock(mutex_);
-      wake_.wait(lock, [&] { return stop_ || !queue_.empty(); });
+      // The front keyframe waits for the frames after it (box_window), so that it
+      // is masked with the same boxes as in sequential mode.
+      wake_.wait(lock, [&] { return stop_ || (!queue_.empty() && WindowComplete(queue_.front().keyframe->frame_id)); });
       if (queue_.empty()) return;  // stopped and drained
       input = std::move(queue_.front());
       queue_.pop_front();
+      carried = CarriedBoxes(input.keyframe->frame_id);
     }
-    ProcessKeyFrame(input);
+    ProcessKeyFrame(input, carried);
   }
 }
 
-void SemanticMapper::ProcessKeyFrame(const SemanticInput& input) {
+void SemanticMapper::ProcessKeyFrame(const SemanticInput& input, const std::vector<CarriedBox>& carried) {
   const Stopwatch total;
   const SemanticConfig& c = config_.semantic;
   const KeyFrame& kf = *input.keyframe;
@@ -109,8 +175,9 @@ void SemanticMapper::ProcessKeyFrame(const SemanticInput& input) {
   }
   StageMs ms{};
   Stopwatch stage;
-  const cv::Mat mask =
+  cv::Mat mask =
       DynamicPixelMask(input.depth, config_.camera.depth_factor, f.detections, classes_, f.keys, f.dynamic, c);
+  MaskCarriedBoxes(carried, input.depth, config_.camera.depth_factor, c.box_window_band, mask);
   ms.mask = stage.ElapsedMs();
 
   stage.Restart();
@@ -237,6 +304,51 @@ SemanticMapper::CloudTruth SemanticMapper::ScoreCloud(const std::function<cv::Ma
       ++t.points;
       t.moving += mask.at<std::uint8_t>(v, u) != 0;
     }
+  }
+  return t;
+}
+
+SemanticMapper::OctoMapTruth SemanticMapper::ScoreOctoMap(const std::function<cv::Mat(Timestamp)>& mask_of,
+                                                          const std::function<cv::Mat(Timestamp)>& depth_of,
+                                                          int stride) const {
+  OctoMapTruth t;
+  const double res = octomap_.resolution();
+  const auto key = [res](const Eigen::Vector3d& p) {
+    const auto c = [res](double x) { return static_cast<std::int64_t>(std::floor(x / res)) + (1 << 20); };
+    return (c(p.x()) << 42) | (c(p.y()) << 21) | c(p.z());
+  };
+  std::unordered_set<std::int64_t> moving, near_static;
+  const SemanticConfig& c = config_.semantic;
+  for (const KeyFrameCloud& k : clouds_) {
+    const cv::Mat mask = mask_of(k.keyframe->t), depth = depth_of(k.keyframe->t);
+    if (mask.empty() || depth.empty() || mask.size() != depth.size() || depth.type() != CV_16UC1) continue;
+    ++t.keyframes;
+    const SE3 T_w_c = k.keyframe->PlacedT_c_w().Inverse();
+    for (int v = 0; v < depth.rows; v += stride) {
+      for (int u = 0; u < depth.cols; u += stride) {
+        const double z = depth.at<std::uint16_t>(v, u) / config_.camera.depth_factor;
+        if (z < c.depth_min || z > c.depth_max) continue;
+        const cv::Vec2f& r = rays_.at(u, v);
+        const Eigen::Vector3d p = T_w_c * Eigen::Vector3d(r[0] * z, r[1] * z, z);
+        if (mask.at<std::uint8_t>(v, u) != 0) {
+          moving.insert(key(p));
+          continue;
+        }
+        for (int dx = -1; dx <= 1; ++dx) {
+          for (int dy = -1; dy <= 1; ++dy) {
+            for (int dz = -1; dz <= 1; ++dz) near_static.insert(key(p + res * Eigen::Vector3d(dx, dy, dz)));
+          }
+        }
+      }
+    }
+  }
+  for (std::int64_t m : moving) {
+    if (near_static.count(m) != 0) continue;
+    ++t.path_cells;
+    const auto centre = [&](int shift) {
+      return (static_cast<double>((m >> shift) & ((1 << 21) - 1)) - (1 << 20) + 0.5) * res;
+    };
+    t.occupied += octomap_.IsOccupied({centre(42), centre(21), centre(0)}) ? 1 : 0;
   }
   return t;
 }

@@ -9,7 +9,10 @@
 //
 // Threading: Submit() is called by one producer (local mapping, or the only thread
 // in sequential mode) and never blocks: when queue_size keyframes wait, the oldest
-// is dropped and counted. The worker takes Map::mutex() shared only to read poses,
+// is dropped and counted. AddFrame() is called by tracking for every tracked frame
+// and never blocks either; with box_window > 0 a keyframe waits (in the worker, or
+// in sequential mode in a pending list) until the box_window frames after it are
+// in, or Finish(). The worker takes Map::mutex() shared only to read poses,
 // never while holding its own mutex. Finish() drains the queue and joins; the
 // export functions are called after Finish(), under the caller's shared map lock.
 #pragma once
@@ -20,6 +23,7 @@
 #include <filesystem>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -27,6 +31,7 @@
 
 #include "sgslam/common/time.h"
 #include "sgslam/config/config.h"
+#include "sgslam/semantic/box_window.h"
 #include "sgslam/semantic/cloud.h"
 #include "sgslam/semantic/objects.h"
 #include "sgslam/semantic/octomap_builder.h"
@@ -58,6 +63,9 @@ class SemanticMapper {
   SemanticMapper& operator=(const SemanticMapper&) = delete;
 
   void Submit(SemanticInput input);
+  // A tracked frame's pose and detections (only its dynamic-class boxes are kept).
+  void AddFrame(std::uint64_t frame_id, const SE3& T_c_w, const std::vector<Detection>& detections,
+                const cv::Mat& depth_raw);
   void Finish();
 
   // After Finish(), under the map's shared lock.
@@ -76,10 +84,24 @@ class SemanticMapper {
     std::size_t keyframes = 0, points = 0, moving = 0;
   };
   CloudTruth ScoreCloud(const std::function<cv::Mat(Timestamp)>& mask_of) const;
+  // The movers' swept volume in the OctoMap: the cells (at its resolution) that the
+  // keyframes' ground-truth moving pixels fall in with the final poses, less those
+  // within one cell of any static pixel's (the floor under a foot, the desk behind
+  // a hand: noise, not the path), and how many of them ended occupied. depth_of:
+  // the raw depth image of a timestamp. After ExportCloud().
+  struct OctoMapTruth {
+    std::size_t keyframes = 0, path_cells = 0, occupied = 0;
+  };
+  OctoMapTruth ScoreOctoMap(const std::function<cv::Mat(Timestamp)>& mask_of,
+                            const std::function<cv::Mat(Timestamp)>& depth_of, int stride = 2) const;
 
  private:
   void Loop();
-  void ProcessKeyFrame(const SemanticInput& input);
+  void ProcessKeyFrame(const SemanticInput& input, const std::vector<CarriedBox>& carried);
+  // Under mutex_: the boxes of the frames around the keyframe's, in its image.
+  std::vector<CarriedBox> CarriedBoxes(std::uint64_t keyframe_frame_id) const;
+  bool WindowComplete(std::uint64_t keyframe_frame_id) const;  // under mutex_
+  void ProcessReady(bool all);                                 // sequential mode
 
   const Config config_;
   const Map& map_;
@@ -104,9 +126,11 @@ class SemanticMapper {
   OctoMapBuilder octomap_;
   ObjectDatabase objects_;
 
-  mutable std::mutex mutex_;  // guards queue_, stats_, stop_
+  mutable std::mutex mutex_;  // guards queue_, frames_, last_frame_id_, stats_, stop_
   std::condition_variable wake_;
-  std::deque<SemanticInput> queue_;
+  std::deque<SemanticInput> queue_;  // parallel: waiting for the worker; sequential: for their box window
+  std::deque<FrameBoxes> frames_;    // the last box_window_history tracked frames, by frame id
+  std::optional<std::uint64_t> last_frame_id_;
   mutable SemanticStats stats_;
   struct StageMs {
     double mask, cloud, octomap, objects;

@@ -121,6 +121,10 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
       queue_.Push(std::move(item));
     }
   }
+  // After the keyframe's hand-over: in sequential mode this may complete its box window.
+  if (semantic_ && result.state == TrackState::kOk) {
+    semantic_->AddFrame(frame.id, frame.T_c_w, frame.features->detections, images.depth);
+  }
   report.total_ms = total.ElapsedMs();
   return report;
 }
