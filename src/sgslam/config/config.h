@@ -146,6 +146,12 @@ struct MappingConfig {
   // interrupts the BA, as ORB-SLAM2's InterruptBA does. Otherwise parallel runs
   // made 55-60 keyframes on fr1_rpy against 77 sequential, and lost accuracy.
   int busy_frames = 5;
+  // Linux nice value of the local mapping thread (0: as tracking). Tracking's
+  // latency is the real-time budget; mapping has the time between keyframes.
+  // fr1_rpy --mode none parallel, 4 interleaved pairs: nice 5 gave 21.3-24.3 ms a
+  // frame against 27.1-28.1 ms at 0, but ATE 0.0189-0.0263 m against 0.0175-0.0211
+  // (a mapper that lags gives tracking fewer fresh points): off until that is fixed.
+  int nice = 0;
 
   template <class V>
   void Visit(V&& v) {
@@ -157,6 +163,7 @@ struct MappingConfig {
     v("redundant_ratio", redundant_ratio, "share of points seen elsewhere to cull a keyframe");
     v("queue_size", queue_size, "keyframes queued for local mapping");
     v("busy_frames", busy_frames, "frames after a keyframe that mapping counts as busy; later keyframes interrupt its BA");
+    v("nice", nice, "Linux nice value of the local mapping thread, 0..19");
   }
   void Validate(ConfigChecker& c) const;
 };

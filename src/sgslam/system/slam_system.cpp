@@ -1,5 +1,9 @@
 #include "sgslam/system/slam_system.h"
 
+#include <sys/resource.h>
+#include <unistd.h>
+
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 #include <shared_mutex>
 
@@ -18,6 +22,9 @@ SlamSystem::SlamSystem(const Config& config, bool sequential, std::unique_ptr<De
       tracker_(config, map_),
       mapper_(config, map_),
       queue_(static_cast<std::size_t>(config.mapping.queue_size)) {
+  // OpenCV's own worker threads (resize, blur, LK) would compete with local mapping
+  // for the second core in every mode, not only when the detector sets it.
+  if (config.detector.threads > 0) cv::setNumThreads(config.detector.threads);
   if (config.semantic.enabled) semantic_ = std::make_unique<SemanticMapper>(config, map_, sequential);
   if (!sequential_) mapping_thread_ = std::thread([this] { MappingLoop(); });
 }
@@ -33,6 +40,7 @@ void SlamSystem::Finish() {
 }
 
 void SlamSystem::MappingLoop() {
+  if (config_.mapping.nice > 0) setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), config_.mapping.nice);
   while (auto item = queue_.Pop()) {
     mapping_busy_ = true;
     const MappingStats stats = mapper_.Process(item->keyframe, [this] { return queue_.size() > 0; });
