@@ -160,7 +160,12 @@ DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, 
       if (from_tracks) depth->T_cur_prev = *tracks_.motion();
       else if (T_cur_prev) depth->T_cur_prev = *T_cur_prev;  // pnp: replaced by the PnP estimate
     }
-    dynamic::RejectionResult r = dynamic::JudgePairs(pairs, keys, out.detections, weight, dyn,
+    std::vector<Detection> judged;
+    const double max_area = config_.dynamic.max_box_area * gray.cols * gray.rows;
+    for (const Detection& d : out.detections) {
+      if (d.box.area() <= max_area) judged.push_back(d);
+    }
+    dynamic::RejectionResult r = dynamic::JudgePairs(pairs, keys, judged, weight, dyn,
                                                      depth ? &*depth : nullptr, prior_.cell > 0 ? &prior_ : nullptr);
     if (mode_ != dynamic::Mode::kSemantic) {
       out.rejected_track = ApplyMultiFrameChecks(keys, tracks, r);

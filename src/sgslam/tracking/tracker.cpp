@@ -5,6 +5,7 @@
 #include <numeric>
 #include <shared_mutex>
 
+#include "sgslam/dynamic/motion.h"
 #include "sgslam/features/matcher.h"
 #include "sgslam/optim/pose_optimizer.h"
 
@@ -141,14 +142,51 @@ bool Tracker::TrackReferenceKeyFrame(Frame& frame, const std::shared_ptr<KeyFram
 }
 
 bool Tracker::Recover(Frame& frame, TrackResult& result) {
-  // Without relocalisation: try the keyframes nearest to the last good pose.
+  // Without a place-recognition database: the most recent keyframes (they see what
+  // the camera saw when it was lost, even if its last poses drifted) and those
+  // nearest to the last good pose. Each is matched by descriptor, and the pose
+  // comes from PnP RANSAC on the matches, not from the last pose: after a failure
+  // that pose is the least trustworthy (ORB-SLAM2's relocalisation does the same
+  // with BoW candidates).
+  std::vector<std::shared_ptr<KeyFrame>> candidates;
+  const auto& all = map_.keyframes();
+  for (auto it = all.rbegin(); it != all.rend() && candidates.size() < 5; ++it) {
+    if (!it->second->bad()) candidates.push_back(it->second);
+  }
   const Eigen::Vector3d last_center = last_frame_.center();
   std::vector<std::pair<double, std::shared_ptr<KeyFrame>>> near;
-  for (const auto& [id, kf] : map_.keyframes()) near.emplace_back((kf->center() - last_center).norm(), kf);
+  for (const auto& [id, kf] : all) {
+    if (!kf->bad()) near.emplace_back((kf->center() - last_center).norm(), kf);
+  }
   std::stable_sort(near.begin(), near.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  if (near.size() > 5) near.resize(5);
   for (const auto& [d, kf] : near) {
-    if (TrackReferenceKeyFrame(frame, kf, result)) return true;
+    if (candidates.size() >= 10) break;
+    if (std::find(candidates.begin(), candidates.end(), kf) == candidates.end()) candidates.push_back(kf);
+  }
+  const Features& f = *frame.features;
+  const Camera& cam = *f.camera;
+  const dynamic::Pinhole K{cam.fx(), cam.fy(), cam.cx(), cam.cy()};
+  for (const auto& kf : candidates) {
+    std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
+    const int n = matcher::SearchByDescriptor(*kf, frame, config_.tracking.descriptor_ratio);
+    result.matches = n;
+    if (n < 15) continue;
+    std::vector<cv::Point3f> object;
+    std::vector<cv::Point2f> image;
+    for (std::size_t i = 0; i < frame.map_points.size(); ++i) {
+      if (!frame.map_points[i]) continue;
+      const Eigen::Vector3d p = frame.map_points[i]->position();
+      object.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+      image.push_back(f.keys_un[i].pt);
+    }
+    const std::optional<SE3> T_c_w = dynamic::SolvePnPMotion(object, image, K, 300, 4.0, config_.tracking.min_pose_inliers);
+    if (!T_c_w) continue;
+    frame.T_c_w = *T_c_w;
+    const int inliers = OptimizePose(frame);
+    DiscardOutliers(frame);
+    if (inliers < config_.tracking.min_pose_inliers) continue;
+    reference_kf_ = kf;
+    return true;
   }
   return false;
 }
