@@ -184,8 +184,10 @@ RunSummary RunSequence(const RunOptions& o) {
       semantic_json["truth"]["octomap_path_cells"] = truth_map.path_cells;
       semantic_json["truth"]["octomap_path_cells_occupied"] = truth_map.occupied;
       semantic_json["truth"]["octomap_path_occupied_share"] = occupied_share;
-      spdlog::info("OctoMap vs ground-truth masks: {} of {} cells on the movers' paths occupied ({:.2f} %)",
-                   truth_map.occupied, truth_map.path_cells, 100 * occupied_share);
+      if (truth_map.path_cells > 0) {
+        spdlog::info("OctoMap vs ground-truth masks: {} of {} cells on the movers' paths occupied ({:.2f} %)",
+                     truth_map.occupied, truth_map.path_cells, 100 * occupied_share);
+      }
     }
     if (st.dropped > 0) spdlog::warn("semantic mapping fell behind: {} keyframes left out of the map", st.dropped);
   }
