@@ -47,6 +47,7 @@ void TrackingConfig::Validate(ConfigChecker& c) const {
   c.InRange("min_motion_matches", min_motion_matches, 4, 10000);
   c.InRange("min_pose_inliers", min_pose_inliers, 4, 10000);
   c.InRange("min_local_inliers", min_local_inliers, 4, 10000);
+  c.InRange("recover_candidates", recover_candidates, 1, 100000);
   c.InRange("keyframe_ref_ratio", keyframe_ref_ratio, 0.05, 1.0);
   c.InRange("max_frames_between_keyframes", max_frames_between_keyframes, 0, 10000);
   c.InRange("close_tracked_min", close_tracked_min, 0, 100000);

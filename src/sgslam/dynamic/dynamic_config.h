@@ -45,11 +45,12 @@ struct DynamicConfig {
   // Share of the image above which a box takes no part in the rejection (1: all do).
   // Yolo-Fastest's whole-view false positives on dyn_dev (a "person" over 83 % of
   // frame 67, a "cat" over half of frame 53) throw out the static background and
-  // leave the F fit to the unknown moving box. Measured on dyn_dev sg: sequential
-  // ATE 0.0927 m at 0.7 (0.1302 at 1; 0.4: 0.125, 0.5: 0.046, 0.6: 0.092 with 8
-  // frames lost); parallel 0.098 / 0.102 m against 0.119-0.137, but one run of three
-  // lost the map at frame 72 for good. Off until tracking survives that.
-  double max_box_area = 1.0;
+  // leave the F fit to the unknown moving box; a box that large has no outside to
+  // contrast with anyway. Measured on dyn_dev sg: sequential ATE 0.0927 m at 0.7
+  // against 0.1302 at 1 (0.6: 0.092 m with 8 frames lost; 0.5: 0.110 m); parallel, 16
+  // runs: 0.047-0.137 m, median 0.094, against 0.119-0.144 (median 0.133, 4 runs).
+  // fr1_rpy sg sequential: 0.0204 m against 0.0202.
+  double max_box_area = 0.7;
   bool refine_fundamental = false;  // 8-point refit on the RANSAC inliers (measured worse, see epipolar.h)
   bool reject_unmatched = false;    // true: the paper's literal rule, a keypoint without a pair is never kept
   // Geometry on undistorted pixels: LK runs on the raw images, the pairs are then

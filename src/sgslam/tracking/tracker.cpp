@@ -143,8 +143,9 @@ bool Tracker::TrackReferenceKeyFrame(Frame& frame, const std::shared_ptr<KeyFram
 
 bool Tracker::Recover(Frame& frame, TrackResult& result) {
   // Without a place-recognition database: the most recent keyframes (they see what
-  // the camera saw when it was lost, even if its last poses drifted) and those
-  // nearest to the last good pose. Each is matched by descriptor, and the pose
+  // the camera saw when it was lost, even if its last poses drifted), then those
+  // nearest to the last good pose, up to recover_candidates (in a room-sized map
+  // that is every keyframe: the camera may come back to any view). Each is matched by descriptor, and the pose
   // comes from PnP RANSAC on the matches, not from the last pose: after a failure
   // that pose is the least trustworthy (ORB-SLAM2's relocalisation does the same
   // with BoW candidates).
@@ -159,8 +160,10 @@ bool Tracker::Recover(Frame& frame, TrackResult& result) {
     if (!kf->bad()) near.emplace_back((kf->center() - last_center).norm(), kf);
   }
   std::stable_sort(near.begin(), near.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  const auto cap = static_cast<std::size_t>(config_.tracking.recover_candidates);
+  if (candidates.size() > cap) candidates.resize(cap);
   for (const auto& [d, kf] : near) {
-    if (candidates.size() >= 10) break;
+    if (candidates.size() >= cap) break;
     if (std::find(candidates.begin(), candidates.end(), kf) == candidates.end()) candidates.push_back(kf);
   }
   const Features& f = *frame.features;
