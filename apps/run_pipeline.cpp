@@ -1,6 +1,5 @@
 #include "run_pipeline.h"
 
-#include <unordered_map>
 #include <spdlog/spdlog.h>
 
 #include <atomic>

@@ -145,10 +145,10 @@ bool Tracker::Recover(Frame& frame, TrackResult& result) {
   // Without a place-recognition database: the most recent keyframes (they see what
   // the camera saw when it was lost, even if its last poses drifted), then those
   // nearest to the last good pose, up to recover_candidates (in a room-sized map
-  // that is every keyframe: the camera may come back to any view). Each is matched by descriptor, and the pose
-  // comes from PnP RANSAC on the matches, not from the last pose: after a failure
-  // that pose is the least trustworthy (ORB-SLAM2's relocalisation does the same
-  // with BoW candidates).
+  // that is every keyframe: the camera may come back to any view). Each is matched
+  // by descriptor, and the pose comes from PnP RANSAC on the matches, not from the
+  // last pose: after a failure that pose is the least trustworthy (ORB-SLAM2's
+  // relocalisation does the same with BoW candidates).
   std::vector<std::shared_ptr<KeyFrame>> candidates;
   const auto& all = map_.keyframes();
   for (auto it = all.rbegin(); it != all.rend() && candidates.size() < 5; ++it) {
