@@ -36,25 +36,24 @@ std::vector<CarriedBox> CarryBoxes(const FrameBoxes& from, const SE3& T_c_w_to, 
     if (!(z > 0)) continue;
     const cv::Rect2f& r = from.boxes[b].box;
     if (r.area() > max_area * image.area()) continue;
-    // Corners and edge midpoints: lens distortion bends the edges.
+    // A 3x3 grid: corners and edge midpoints because lens distortion bends the
+    // edges, and the centre (p[4], inside the box, so harmless to the bounds) for
+    // the carried depth.
     std::vector<cv::Point2f> p;
     for (float fy : {0.f, 0.5f, 1.f}) {
-      for (float fx : {0.f, 0.5f, 1.f}) {
-        if (fx != 0.5f || fy != 0.5f) p.emplace_back(r.x + fx * r.width, r.y + fy * r.height);
-      }
+      for (float fx : {0.f, 0.5f, 1.f}) p.emplace_back(r.x + fx * r.width, r.y + fy * r.height);
     }
     camera.Undistort(p);
     float u0 = 1e9f, v0 = 1e9f, u1 = -1e9f, v1 = -1e9f;
     bool behind = false;
-    std::vector<cv::Point2f> centre{{r.x + 0.5f * r.width, r.y + 0.5f * r.height}};
-    camera.Undistort(centre);
-    const double depth = (T_to_from * camera.Unproject(centre[0].x, centre[0].y, z)).z();
-    for (const cv::Point2f& q : p) {
-      const Eigen::Vector3d x = T_to_from * camera.Unproject(q.x, q.y, z);
+    double depth = 0;
+    for (std::size_t k = 0; k < p.size(); ++k) {
+      const Eigen::Vector3d x = T_to_from * camera.Unproject(p[k].x, p[k].y, z);
       if (x.z() <= 0.1) {
         behind = true;
         break;
       }
+      if (k == 4) depth = x.z();
       const Eigen::Vector2d uv = camera.Distort(camera.Project(x));
       u0 = std::min(u0, static_cast<float>(uv.x())), u1 = std::max(u1, static_cast<float>(uv.x()));
       v0 = std::min(v0, static_cast<float>(uv.y())), v1 = std::max(v1, static_cast<float>(uv.y()));
