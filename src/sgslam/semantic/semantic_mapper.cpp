@@ -317,7 +317,7 @@ SemanticMapper::OctoMapTruth SemanticMapper::ScoreOctoMap(const std::function<cv
     const auto c = [res](double x) { return static_cast<std::int64_t>(std::floor(x / res)) + (1 << 20); };
     return (c(p.x()) << 42) | (c(p.y()) << 21) | c(p.z());
   };
-  std::unordered_set<std::int64_t> moving, near_static;
+  std::unordered_set<std::int64_t> moving, static_cells;
   const SemanticConfig& c = config_.semantic;
   for (const KeyFrameCloud& k : clouds_) {
     const cv::Mat mask = mask_of(k.keyframe->t), depth = depth_of(k.keyframe->t);
@@ -330,25 +330,27 @@ SemanticMapper::OctoMapTruth SemanticMapper::ScoreOctoMap(const std::function<cv
         if (z < c.depth_min || z > c.depth_max) continue;
         const cv::Vec2f& r = rays_.at(u, v);
         const Eigen::Vector3d p = T_w_c * Eigen::Vector3d(r[0] * z, r[1] * z, z);
-        if (mask.at<std::uint8_t>(v, u) != 0) {
-          moving.insert(key(p));
-          continue;
-        }
-        for (int dx = -1; dx <= 1; ++dx) {
-          for (int dy = -1; dy <= 1; ++dy) {
-            for (int dz = -1; dz <= 1; ++dz) near_static.insert(key(p + res * Eigen::Vector3d(dx, dy, dz)));
-          }
-        }
+        (mask.at<std::uint8_t>(v, u) != 0 ? moving : static_cells).insert(key(p));
       }
     }
   }
+  const auto centre = [res](std::int64_t m, int shift) {
+    return (static_cast<double>((m >> shift) & ((1 << 21) - 1)) - (1 << 20) + 0.5) * res;
+  };
   for (std::int64_t m : moving) {
-    if (near_static.count(m) != 0) continue;
+    // A path cell has no static cell among itself and its 26 neighbours.
+    const Eigen::Vector3d x(centre(m, 42), centre(m, 21), centre(m, 0));
+    bool near_static = false;
+    for (int dx = -1; dx <= 1 && !near_static; ++dx) {
+      for (int dy = -1; dy <= 1 && !near_static; ++dy) {
+        for (int dz = -1; dz <= 1 && !near_static; ++dz) {
+          near_static = static_cells.count(key(x + res * Eigen::Vector3d(dx, dy, dz))) != 0;
+        }
+      }
+    }
+    if (near_static) continue;
     ++t.path_cells;
-    const auto centre = [&](int shift) {
-      return (static_cast<double>((m >> shift) & ((1 << 21) - 1)) - (1 << 20) + 0.5) * res;
-    };
-    t.occupied += octomap_.IsOccupied({centre(42), centre(21), centre(0)}) ? 1 : 0;
+    t.occupied += octomap_.IsOccupied(x) ? 1 : 0;
   }
   return t;
 }
