@@ -9,8 +9,8 @@
 //
 // Threading: Submit() is called by one producer (local mapping, or the only thread
 // in sequential mode) and never blocks: when queue_size keyframes wait, the oldest
-// is dropped and counted. AddFrame() is called by tracking for every tracked frame
-// and never blocks either; with box_window > 0 a keyframe waits (in the worker, or
+// is dropped and counted. AddFrame() is called by tracking for every frame and
+// never blocks either; with box_window > 0 a keyframe waits (in the worker, or
 // in sequential mode in a pending list) until the box_window frames after it are
 // in, or Finish(). The worker takes Map::mutex() shared only to read poses,
 // never while holding its own mutex. Finish() drains the queue and joins; the
@@ -63,7 +63,8 @@ class SemanticMapper {
   SemanticMapper& operator=(const SemanticMapper&) = delete;
 
   void Submit(SemanticInput input);
-  // A tracked frame's pose and detections (only its dynamic-class boxes are kept).
+  // A frame's pose and detections (only its dynamic-class boxes are kept; a lost
+  // frame comes without detections).
   void AddFrame(std::uint64_t frame_id, const SE3& T_c_w, const std::vector<Detection>& detections,
                 const cv::Mat& depth_raw);
   void Finish();
@@ -129,7 +130,7 @@ class SemanticMapper {
   mutable std::mutex mutex_;  // guards queue_, frames_, last_frame_id_, stats_, stop_
   std::condition_variable wake_;
   std::deque<SemanticInput> queue_;  // parallel: waiting for the worker; sequential: for their box window
-  std::deque<FrameBoxes> frames_;    // the last box_window_history tracked frames, by frame id
+  std::deque<FrameBoxes> frames_;    // the last box_window_history frames, by frame id
   std::optional<std::uint64_t> last_frame_id_;
   mutable SemanticStats stats_;
   struct StageMs {

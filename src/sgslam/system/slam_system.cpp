@@ -129,9 +129,13 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
       queue_.Push(std::move(item));
     }
   }
-  // After the keyframe's hand-over: in sequential mode this may complete its box window.
-  if (semantic_ && result.state == TrackState::kOk) {
-    semantic_->AddFrame(frame.id, frame.T_c_w, frame.features->detections, images.depth);
+  // After the keyframe's hand-over: in sequential mode this may complete its box
+  // window. Every frame counts towards the window (a lost stretch must not hold
+  // keyframes back); a lost frame's boxes are not carried, its pose is unknown.
+  if (semantic_) {
+    static const std::vector<Detection> kNone;
+    const bool tracked = result.state == TrackState::kOk;
+    semantic_->AddFrame(frame.id, frame.T_c_w, tracked ? frame.features->detections : kNone, images.depth);
   }
   report.total_ms = total.ElapsedMs();
   return report;
