@@ -7,25 +7,13 @@
 #include "sgslam/camera/camera.h"
 #include "sgslam/config/config.h"
 #include "sgslam/semantic/box_window.h"
+#include "semantic/semantic_scenes.h"
 
 namespace sgslam {
 namespace {
 
-CameraConfig Pinhole() {
-  CameraConfig c;
-  c.fx = c.fy = 500;
-  c.cx = 319.5;
-  c.cy = 239.5;
-  c.k1 = c.k2 = c.p1 = c.p2 = c.k3 = 0;
-  return c;
-}
-
-// A wall at 4 m with a person-sized face at 2 m over pixels [200, 300) x [150, 330).
-cv::Mat PersonBeforeWall() {
-  cv::Mat d(480, 640, CV_16UC1, cv::Scalar(4 * 5000));
-  d(cv::Rect(200, 150, 100, 180)).setTo(2 * 5000);
-  return d;
-}
+using test::FaceBeforeWall;
+using test::PinholeCamera;
 
 FrameBoxes Seen(const cv::Rect2f& box, double depth, const SE3& T_c_w = SE3()) {
   FrameBoxes f;
@@ -37,12 +25,12 @@ FrameBoxes Seen(const cv::Rect2f& box, double depth, const SE3& T_c_w = SE3()) {
 
 TEST(BoxMedianDepth, IsTheObjectsDepthNotTheBackgroundsAroundIt) {
   // A loose box (20 px of wall on every side): its inner 60 % is all face.
-  EXPECT_NEAR(BoxMedianDepth(PersonBeforeWall(), 5000, cv::Rect2f(180, 130, 140, 220)), 2.0, 1e-9);
+  EXPECT_NEAR(BoxMedianDepth(FaceBeforeWall(), 5000, cv::Rect2f(180, 130, 140, 220)), 2.0, 1e-9);
   EXPECT_EQ(BoxMedianDepth(cv::Mat::zeros(480, 640, CV_16UC1), 5000, cv::Rect2f(180, 130, 140, 220)), 0.0);
 }
 
 TEST(CarryBoxes, FollowsTheCameraMotionAtTheBoxDepth) {
-  const Camera cam(Pinhole());
+  const Camera cam(PinholeCamera());
   const cv::Size image(640, 480);
   const cv::Rect2f box(200, 150, 100, 180);
   // The keyframe's camera is 0.2 m to the right of the frame's: a point at 2 m moves
@@ -65,7 +53,7 @@ TEST(CarryBoxes, FollowsTheCameraMotionAtTheBoxDepth) {
 }
 
 TEST(CarryBoxes, DropsBoxesBehindTheCameraOutsideTheImageOrTooLarge) {
-  const Camera cam(Pinhole());
+  const Camera cam(PinholeCamera());
   const cv::Size image(640, 480);
   const cv::Rect2f box(200, 150, 100, 180);
   const SE3 past(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0, 0, -3.0));  // 3 m forward: behind
@@ -77,7 +65,7 @@ TEST(CarryBoxes, DropsBoxesBehindTheCameraOutsideTheImageOrTooLarge) {
 }
 
 TEST(MaskCarriedBoxes, MasksTheObjectsDepthLayerOnly) {
-  const cv::Mat depth = PersonBeforeWall();
+  const cv::Mat depth = FaceBeforeWall();
   cv::Mat mask = cv::Mat::zeros(480, 640, CV_8UC1);
   MaskCarriedBoxes({{cv::Rect2f(180, 130, 140, 220), 2.1}}, depth, 5000, 0.4, mask);
   EXPECT_EQ(cv::countNonZero(mask), 100 * 180);                      // the face, not the wall in the box

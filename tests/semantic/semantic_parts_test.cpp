@@ -11,26 +11,14 @@
 #include "sgslam/semantic/dynamic_mask.h"
 #include "sgslam/semantic/objects.h"
 #include "sgslam/semantic/octomap_builder.h"
+#include "semantic/semantic_scenes.h"
 #include "support/test_support.h"
 
 namespace sgslam {
 namespace {
 
-CameraConfig Pinhole() {
-  CameraConfig c;
-  c.fx = c.fy = 500;
-  c.cx = 319.5;
-  c.cy = 239.5;
-  c.k1 = c.k2 = c.p1 = c.p2 = c.k3 = 0;
-  return c;
-}
-
-// A wall at 4 m with a box face at 2 m covering pixels [200, 300) x [150, 330).
-cv::Mat BoxBeforeWall() {
-  cv::Mat d(480, 640, CV_16UC1, cv::Scalar(4 * 5000));
-  d(cv::Rect(200, 150, 100, 180)).setTo(2 * 5000);
-  return d;
-}
+using test::FaceBeforeWall;
+using test::PinholeCamera;
 
 TEST(VoxelDownsample, OnePointPerVoxelAtTheMean) {
   const std::vector<ColoredPoint> in = {{{0.01f, 0.01f, 0.01f}, {0, 0, 0}},
@@ -44,9 +32,9 @@ TEST(VoxelDownsample, OnePointPerVoxelAtTheMean) {
 }
 
 TEST(BackProject, PixelsLandOnTheirDepthAndMaskedOnesAreLeftOut) {
-  const Camera cam(Pinhole());
+  const Camera cam(PinholeCamera());
   const PixelRays rays(cam);
-  const cv::Mat depth = BoxBeforeWall();
+  const cv::Mat depth = FaceBeforeWall();
   cv::Mat mask = cv::Mat::zeros(depth.size(), CV_8UC1);
   mask(cv::Rect(200, 150, 100, 180)).setTo(255);
   SemanticConfig c;
@@ -62,7 +50,7 @@ TEST(BackProject, PixelsLandOnTheirDepthAndMaskedOnesAreLeftOut) {
 TEST(DynamicPixelMask, PersonBoxesAndRejectedKeypointsButNotChairs) {
   DetectorConfig dc;
   const ClassTable classes(dc);
-  const cv::Mat depth = BoxBeforeWall();
+  const cv::Mat depth = FaceBeforeWall();
   SemanticConfig c;
   c.box_margin = 0.1;
   Detection person{0, "person", 0.9f, cv::Rect2f(400, 100, 100, 200)};
@@ -83,7 +71,7 @@ TEST(DynamicPixelMask, PersonBoxesAndRejectedKeypointsButNotChairs) {
 TEST(DynamicPixelMask, MasksTheWholeDepthSegmentWhereMostKeypointsMoved) {
   DetectorConfig dc;
   const ClassTable classes(dc);
-  const cv::Mat depth = BoxBeforeWall();  // face at 2 m on [200, 300) x [150, 330), wall at 4 m
+  const cv::Mat depth = FaceBeforeWall();  // face at 2 m on [200, 300) x [150, 330), wall at 4 m
   SemanticConfig c;
   c.motion_radius = 0;  // the segments alone
   std::vector<cv::KeyPoint> keys;
@@ -105,12 +93,12 @@ TEST(DynamicPixelMask, MasksTheWholeDepthSegmentWhereMostKeypointsMoved) {
 }
 
 TEST(ObserveObject, TakesTheObjectDepthsOfTheWholeBox) {
-  const Camera cam(Pinhole());
+  const Camera cam(PinholeCamera());
   const PixelRays rays(cam);
   SemanticConfig c;
   // The box is drawn 20 px larger than the object on every side: wall in its border.
   const Detection d{56, "chair", 0.8f, cv::Rect2f(180, 130, 140, 220)};
-  const auto obs = ObserveObject(d, BoxBeforeWall(), 5000, rays, c);
+  const auto obs = ObserveObject(d, FaceBeforeWall(), 5000, rays, c);
   ASSERT_TRUE(obs.has_value());
   EXPECT_GE(static_cast<int>(obs->points_c.size()), c.object_min_points);
   Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e9), hi = -lo;
@@ -122,7 +110,7 @@ TEST(ObserveObject, TakesTheObjectDepthsOfTheWholeBox) {
   EXPECT_NEAR(hi.x() - lo.x(), 0.4, 0.05);
   EXPECT_NEAR(hi.y() - lo.y(), 0.72, 0.05);
   // Too small a box: too few depth samples, no observation.
-  EXPECT_FALSE(ObserveObject({56, "chair", 0.8f, cv::Rect2f(10, 10, 4, 4)}, BoxBeforeWall(), 5000, rays, c));
+  EXPECT_FALSE(ObserveObject({56, "chair", 0.8f, cv::Rect2f(10, 10, 4, 4)}, FaceBeforeWall(), 5000, rays, c));
 }
 
 TEST(FitPlanes, FindsFloorAndWallButNotTheClutterBetween) {
@@ -158,7 +146,7 @@ TEST(FitPlanes, FindsFloorAndWallButNotTheClutterBetween) {
 // A slanted face (1.8 to 2.2 m) standing on a floor 0.8 m below the camera, a wall
 // at 4 m behind; the box is drawn 20 px wider than the face on each side.
 TEST(ObserveObject, FloorInTheBoxIsBackgroundNotObject) {
-  const Camera cam(Pinhole());
+  const Camera cam(PinholeCamera());
   const PixelRays rays(cam);
   cv::Mat depth(480, 640, CV_16UC1);
   const auto face_z = [](int u) { return 1.8 + 0.4 * (u - 250) / 140.0; };
