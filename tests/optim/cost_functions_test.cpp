@@ -141,6 +141,111 @@ TEST(CostFunctions, PoseOnlyStereoJacobian) { CheckPoseOnly<3>(2); }
 TEST(CostFunctions, BaMonoJacobian) { CheckBa<2>(3); }
 TEST(CostFunctions, BaStereoJacobian) { CheckBa<3>(4); }
 
+// The batch's full residual stack: its tangent Jacobian against central
+// differences through Plus, with half the items beyond the Huber delta (the
+// measurement noise of RandomObservation is up to 3 px, the delta ~1.5-2.8).
+TEST(CostFunctions, PoseOnlyBatchFullJacobianIsExactWithHuberScaling) {
+  std::mt19937 rng(6);
+  SE3LeftManifold manifold;
+  int beyond = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    const SE3 T = RandomPose(rng);
+    std::vector<PoseOnlyBatchCost::Item> items;
+    for (int i = 0; i < 30; ++i) {
+      PoseOnlyBatchCost::Item it;
+      RandomObservation(rng, T, i % 3 != 0, it.p_w, it.m);
+      it.m.sqrt_info = 1.0;
+      it.huber_delta = i % 5 == 0 ? 0.0 : std::sqrt(it.m.u_right < 0 ? 5.991 : 7.815);
+      items.push_back(it);
+    }
+    const PoseOnlyBatchCost cost(kK, items);
+    double x[7];
+    PoseToParams(T, x);
+    Eigen::VectorXd r;
+    Eigen::MatrixXd J;
+    ASSERT_TRUE(cost.EvaluateFull(x, r, &J));
+    // Rows of a Huber item beyond delta have squared norm rho(s) = 2 d sqrt(s) - d^2 < s.
+    int row = 0;
+    for (const auto& it : items) {
+      const int n = it.m.u_right < 0 ? 2 : 3;
+      const SE3 Tc = T;
+      const double s = ReprojectionChi2(kK, it.m, Tc * it.p_w), d = it.huber_delta;
+      const double expected = d > 0 && s > d * d ? 2 * d * std::sqrt(s) - d * d : s;
+      EXPECT_NEAR(r.segment(row, n).squaredNorm(), expected, 1e-9 * std::max(1.0, s));
+      beyond += d > 0 && s > d * d;
+      row += n;
+    }
+    const double h = 1e-6;
+    Eigen::MatrixXd Jn(J.rows(), 6);
+    for (int j = 0; j < 6; ++j) {
+      double dp[6] = {0, 0, 0, 0, 0, 0}, xp[7], xm[7];
+      dp[j] = h;
+      manifold.Plus(x, dp, xp);
+      dp[j] = -h;
+      manifold.Plus(x, dp, xm);
+      Eigen::VectorXd rp, rm;
+      ASSERT_TRUE(cost.EvaluateFull(xp, rp, nullptr));
+      ASSERT_TRUE(cost.EvaluateFull(xm, rm, nullptr));
+      Jn.col(j) = (rp - rm) / (2 * h);
+    }
+    EXPECT_LT((J - Jn).norm() / std::max(1.0, Jn.norm()), 1e-6);
+  }
+  EXPECT_GT(beyond, 100) << "the test must reach the Huber region";
+}
+
+// The 7 rows Ceres sees stand for the full stack: same squared norm, and
+// through the manifold the same J^T J and J^T r; without Jacobians [|r|, 0...].
+TEST(CostFunctions, PoseOnlyBatchCompressionKeepsNormalEquations) {
+  std::mt19937 rng(7);
+  SE3LeftManifold manifold;
+  for (int trial = 0; trial < 20; ++trial) {
+    const SE3 T = RandomPose(rng);
+    std::vector<PoseOnlyBatchCost::Item> items;
+    for (int i = 0; i < 40; ++i) {
+      PoseOnlyBatchCost::Item it;
+      RandomObservation(rng, T, i % 4 != 0, it.p_w, it.m);
+      it.huber_delta = std::sqrt(7.815);
+      items.push_back(it);
+    }
+    const PoseOnlyBatchCost cost(kK, items);
+    ASSERT_EQ(cost.num_residuals(), 7);
+    double x[7];
+    PoseToParams(T, x);
+    Eigen::VectorXd r;
+    Eigen::MatrixXd J;
+    ASSERT_TRUE(cost.EvaluateFull(x, r, &J));
+    Eigen::Matrix<double, 7, 1> rc, r0;
+    Eigen::Matrix<double, 7, 7, Eigen::RowMajor> Ja;
+    const double* params[] = {x};
+    double* jac[] = {Ja.data()};
+    ASSERT_TRUE(cost.Evaluate(params, rc.data(), jac));
+    ASSERT_TRUE(cost.Evaluate(params, r0.data(), nullptr));
+    Eigen::Matrix<double, 7, 6, Eigen::RowMajor> P;
+    manifold.PlusJacobian(x, P.data());
+    const Eigen::Matrix<double, 7, 6> Jt = Ja * P;
+    const Eigen::MatrixXd H = J.transpose() * J;
+    const Eigen::VectorXd g = J.transpose() * r;
+    EXPECT_NEAR(rc.squaredNorm(), r.squaredNorm(), 1e-9 * r.squaredNorm());
+    EXPECT_NEAR(r0[0], r.norm(), 1e-9 * r.norm());
+    EXPECT_EQ(r0.tail<6>().norm(), 0.0);
+    EXPECT_LT((Jt.transpose() * Jt - H).norm(), 1e-8 * H.norm());
+    EXPECT_LT((Jt.transpose() * rc - g).norm(), 1e-8 * std::max(1.0, g.norm()));
+  }
+  // Too few points for a pose (H singular) and a point behind the camera: evaluation fails.
+  const SE3 T;
+  PoseOnlyBatchCost::Item one;
+  one.p_w = Eigen::Vector3d(0.1, 0.2, 2.0);
+  one.m.uv = Eigen::Vector2d(300, 200);
+  double x[7], r[7], J[49];
+  PoseToParams(T, x);
+  const double* params[] = {x};
+  double* jac[] = {J};
+  EXPECT_FALSE(PoseOnlyBatchCost(kK, {one}).Evaluate(params, r, jac));
+  PoseOnlyBatchCost::Item behind = one;
+  behind.p_w.z() = -2.0;
+  EXPECT_FALSE(PoseOnlyBatchCost(kK, {one, behind}).Evaluate(params, r, nullptr));
+}
+
 TEST(CostFunctions, ResidualMatchesProjectionAndChi2) {
   const SE3 T(so3::Exp(Eigen::Vector3d(0.1, -0.2, 0.3)), Eigen::Vector3d(0.2, 0.1, -0.3));
   const Eigen::Vector3d p_c(0.4, -0.3, 2.0), p_w = T.Inverse() * p_c;

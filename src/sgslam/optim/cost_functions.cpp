@@ -1,9 +1,12 @@
 #include "sgslam/optim/cost_functions.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/Geometry>
+#include <cmath>
 #include <limits>
 
 #include "sgslam/common/se3.h"
+#include "sgslam/optim/se3_manifold.h"
 
 namespace sgslam::optim {
 namespace {
@@ -102,6 +105,115 @@ bool BaReprojectionCost<N>::Evaluate(double const* const* parameters, double* re
     Eigen::Map<Eigen::Matrix<double, N, 3, Eigen::RowMajor>> J_point(jacobians[1]);
     J_point = J_pc * q.toRotationMatrix();
   }
+  return true;
+}
+
+namespace {
+
+// One observation of PoseOnlyBatchCost: residual (N rows at r) and, when J is
+// given, its N x 6 tangent Jacobian, both after the Huber scaling.
+template <int N>
+bool RobustPoseRows(const Intrinsics& K, const PoseOnlyBatchCost::Item& item, const Eigen::Quaterniond& q,
+                    const Eigen::Vector3d& t, double* r, Eigen::Matrix<double, N, 6>* J) {
+  const Eigen::Vector3d p_c = q * item.p_w + t;
+  Eigen::Matrix<double, N, 3> J_pc;
+  if (!ProjectionResidual<N>(K, item.m, p_c, r, J != nullptr ? &J_pc : nullptr)) return false;
+  Eigen::Map<Eigen::Matrix<double, N, 1>> res(r);
+  const double s = res.squaredNorm(), d = item.huber_delta;
+  if (d > 0 && s > d * d) {
+    // Huber beyond delta: rho = 2 d sqrt(s) - d^2. Scale g = sqrt(rho / s), and
+    // d(g r)/dx = g J + r (dg/ds) 2 r^T J with dg/ds = (rho' s - rho) / (2 g s^2).
+    const double root = std::sqrt(s), rho = 2 * d * root - d * d, rho1 = d / root;
+    const double g = std::sqrt(rho / s), dg = (rho1 * s - rho) / (2 * g * s * s);
+    if (J != nullptr) J_pc = g * J_pc + (2 * dg) * res * (res.transpose() * J_pc);
+    res *= g;
+  }
+  if (J != nullptr) {
+    // Exp([rho; phi]) * T moves p_c by rho + phi x p_c.
+    J->template leftCols<3>() = J_pc;
+    J->template rightCols<3>() = -J_pc * Hat(p_c);
+  }
+  return true;
+}
+
+}  // namespace
+
+PoseOnlyBatchCost::PoseOnlyBatchCost(const Intrinsics& K, std::vector<Item> items) : K_(K), items_(std::move(items)) {
+  for (const Item& i : items_) rows_ += i.m.u_right < 0 ? 2 : 3;
+  set_num_residuals(7);
+  mutable_parameter_block_sizes()->push_back(7);
+}
+
+bool PoseOnlyBatchCost::EvaluateFull(const double* pose, Eigen::VectorXd& r, Eigen::MatrixXd* J) const {
+  const Eigen::Map<const Eigen::Quaterniond> q(pose);
+  const Eigen::Map<const Eigen::Vector3d> t(pose + 4);
+  r.resize(rows_);
+  if (J != nullptr) J->resize(rows_, 6);
+  int row = 0;
+  for (const Item& item : items_) {
+    if (item.m.u_right >= 0) {
+      Eigen::Matrix<double, 3, 6> Ji;
+      if (!RobustPoseRows<3>(K_, item, q, t, r.data() + row, J != nullptr ? &Ji : nullptr)) return false;
+      if (J != nullptr) J->middleRows<3>(row) = Ji;
+      row += 3;
+    } else {
+      Eigen::Matrix<double, 2, 6> Ji;
+      if (!RobustPoseRows<2>(K_, item, q, t, r.data() + row, J != nullptr ? &Ji : nullptr)) return false;
+      if (J != nullptr) J->middleRows<2>(row) = Ji;
+      row += 2;
+    }
+  }
+  return true;
+}
+
+bool PoseOnlyBatchCost::Evaluate(double const* const* parameters, double* residuals, double** jacobians) const {
+  const Eigen::Map<const Eigen::Quaterniond> q(parameters[0]);
+  const Eigen::Map<const Eigen::Vector3d> t(parameters[0] + 4);
+  const bool want_J = jacobians != nullptr && jacobians[0] != nullptr;
+  // Accumulated in one pass: c = |r|^2, and with Jacobians H = J^T J, g = J^T r.
+  double c = 0;
+  Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
+  for (const Item& item : items_) {
+    if (item.m.u_right >= 0) {
+      Eigen::Matrix<double, 3, 1> r;
+      Eigen::Matrix<double, 3, 6> Ji;
+      if (!RobustPoseRows<3>(K_, item, q, t, r.data(), want_J ? &Ji : nullptr)) return false;
+      c += r.squaredNorm();
+      if (want_J) {
+        H.noalias() += Ji.transpose() * Ji;
+        g.noalias() += Ji.transpose() * r;
+      }
+    } else {
+      Eigen::Matrix<double, 2, 1> r;
+      Eigen::Matrix<double, 2, 6> Ji;
+      if (!RobustPoseRows<2>(K_, item, q, t, r.data(), want_J ? &Ji : nullptr)) return false;
+      c += r.squaredNorm();
+      if (want_J) {
+        H.noalias() += Ji.transpose() * Ji;
+        g.noalias() += Ji.transpose() * r;
+      }
+    }
+  }
+  Eigen::Map<Eigen::Matrix<double, 7, 1>> out(residuals);
+  if (!want_J) {
+    out.setZero();
+    out[0] = std::sqrt(c);
+    return true;
+  }
+  const Eigen::LLT<Eigen::Matrix<double, 6, 6>> llt(H);
+  if (llt.info() != Eigen::Success) return false;
+  const Eigen::Matrix<double, 6, 6> R = llt.matrixU();  // H = R^T R
+  const Eigen::Matrix<double, 6, 1> z = R.transpose().triangularView<Eigen::Lower>().solve(g);
+  out.head<6>() = z;
+  out[6] = std::sqrt(std::max(c - z.squaredNorm(), 0.0));
+  // Ceres wants d r' / d x in the 7 ambient coordinates and multiplies by the
+  // manifold's PlusJacobian P; MinusJacobian M has M P = I, so J' M gives J'.
+  Eigen::Matrix<double, 6, 7, Eigen::RowMajor> M;
+  SE3LeftManifold().MinusJacobian(parameters[0], M.data());
+  Eigen::Map<Eigen::Matrix<double, 7, 7, Eigen::RowMajor>> J(jacobians[0]);
+  J.topRows<6>() = R * M;
+  J.row(6).setZero();
   return true;
 }
 
