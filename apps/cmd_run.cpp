@@ -22,6 +22,8 @@ Action AddRunCommand(CLI::App& root) {
   cmd->add_flag("--no-detector", o->no_detector, "Run without the object detector (geometry only)");
   cmd->add_option("--max-frames", o->max_frames, "Stop after N frames (0: all)")->check(CLI::NonNegativeNumber);
   cmd->add_flag("--sequential", o->sequential, "Step every module in one thread (deterministic output)");
+  cmd->add_flag("--realtime", o->realtime,
+                "Hand frames over at the pace of their timestamps, like a live camera (default: as fast as they load)");
   cmd->add_option("--viewer", o->viewer_port, "Serve the live viewer on PORT")->expected(0, 1)->default_str("8080");
   return [o] {
     const RunSummary s = RunSequence(*o);

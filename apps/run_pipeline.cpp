@@ -3,9 +3,11 @@
 #include <spdlog/spdlog.h>
 
 #include <atomic>
+#include <chrono>
 #include <csignal>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <thread>
 #include <unordered_map>
 
 #include "progress.h"
@@ -94,8 +96,14 @@ RunSummary RunSequence(const RunOptions& o) {
     InterruptGuard guard;
     FrameStream stream(dataset, config.camera, static_cast<std::size_t>(config.dataset.prefetch), o.max_frames);
     ProgressBar progress(stream.size());
+    const auto start = std::chrono::steady_clock::now();
+    Timestamp t_first = 0;
     try {
       while (auto frame = stream.Next()) {
+        if (o.realtime) {  // wait for the frame's time; a late frame goes at once (none is dropped)
+          if (reports.empty()) t_first = frame->t;
+          std::this_thread::sleep_until(start + std::chrono::nanoseconds(frame->t - t_first));
+        }
         if (reports.empty()) CheckDepthScale(*frame, dataset.frames()[frame->index], config.camera, config.dataset);
         reports.push_back(system.Process(*frame));
         FrameReport& r = reports.back();
@@ -200,6 +208,7 @@ RunSummary RunSequence(const RunOptions& o) {
   nlohmann::json stats = {{"dataset", dataset.dir().string()},
                           {"mode", config.dynamic.mode},
                           {"sequential", o.sequential},
+                          {"realtime", o.realtime},
                           {"frames", s.frames},
                           {"tracked", s.tracked},
                           {"lost", s.lost},

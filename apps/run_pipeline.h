@@ -13,6 +13,9 @@ struct RunOptions {
   std::string dataset, config, out, model;
   std::string mode;  // empty: the config's dynamic.mode (default sg)
   bool no_detector = false, sequential = false;
+  // Hand frames over at the pace of their timestamps, as a live camera would
+  // (ORB-SLAM2's TUM example does the same); otherwise as fast as they load.
+  bool realtime = false;
   std::size_t max_frames = 0;
   int viewer_port = 0;
 };

@@ -180,11 +180,16 @@ TEST(OrbExtractor, KeypointsAreConsistentWithTheirLevel) {
   }
 }
 
-TEST(OrbExtractor, IsDeterministic) {
+// Also with the levels split over two threads: the same output, bit for bit, on
+// every call (the helper takes whichever level is next, so the split varies).
+TEST(OrbExtractor, IsDeterministicWithOneOrTwoThreads) {
   const cv::Mat image = UniformTexture(3);
-  OrbExtractor a(OrbConfig{}), b(OrbConfig{});
+  OrbExtractor a(OrbConfig{}), b(OrbConfig{}), c(OrbConfig{});
+  c.set_threads(2);
+  EXPECT_EQ(c.threads(), 2);
   const Extraction e1 = ExtractAll(a, image), e2 = ExtractAll(a, image), e3 = ExtractAll(b, image);
-  for (const Extraction* e : {&e2, &e3}) {
+  const Extraction e4 = ExtractAll(c, image), e5 = ExtractAll(c, image);
+  for (const Extraction* e : {&e2, &e3, &e4, &e5}) {
     ASSERT_EQ(e1.kps.size(), e->kps.size());
     for (size_t i = 0; i < e1.kps.size(); ++i) {
       EXPECT_EQ(e1.kps[i].pt, e->kps[i].pt);

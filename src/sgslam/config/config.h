@@ -78,6 +78,10 @@ struct OrbConfig {
   int fast_threshold = 20;       // intensity, FAST threshold tried first in each cell
   int fast_min_threshold = 7;    // intensity, fallback for cells where the first finds nothing
   int cell_size = 35;            // px, FAST is run per cell of this size
+  // Threads of the extraction (levels split between them, same output). 0: 2
+  // when parallel and no detector thread runs, else 1 (the detector has the
+  // second core while ORB runs: paper Fig. 1).
+  int threads = 0;
 
   template <class V>
   void Visit(V&& v) {
@@ -87,6 +91,7 @@ struct OrbConfig {
     v("fast_threshold", fast_threshold, "intensity, FAST threshold");
     v("fast_min_threshold", fast_min_threshold, "intensity, FAST fallback threshold");
     v("cell_size", cell_size, "px, FAST cell size");
+    v("threads", threads, "extraction threads, 1 or 2; 0: 2 when parallel without a detector");
   }
   void Validate(ConfigChecker& c) const;
 };

@@ -1,6 +1,9 @@
 #include "sgslam/features/orb_extractor.h"
 
+#include <atomic>
+#include <exception>
 #include <string>
+#include <thread>
 
 #include "sgslam/common/error.h"
 #include "sgslam/features/descriptor.h"
@@ -28,7 +31,7 @@ OrbExtractor::OrbExtractor(const OrbConfig& config)
       scales_(MakeScaleLevels(config.scale_factor, config.levels)),
       features_per_level_(FeaturesPerLevel(config.features, config.scale_factor, config.levels)),
       orientation_(kHalfPatchSize),
-      brief_(MakeRotatedBrief()) {}
+      brief_{MakeRotatedBrief(), MakeRotatedBrief()} {}
 
 void OrbExtractor::Extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) {
   if (gray.empty() || gray.type() != CV_8UC1) {
@@ -38,20 +41,48 @@ void OrbExtractor::Extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypo
   }
   BuildPyramid(gray, scales_.inv_scale, pyramid_);
 
+  const int n = levels();
+  std::vector<std::vector<cv::KeyPoint>> level_kps(static_cast<size_t>(n));
+  std::vector<cv::Mat> level_desc(static_cast<size_t>(n));
+  std::atomic<int> next{0};
+  const auto work = [&](int worker) {
+    for (int l = next.fetch_add(1); l < n; l = next.fetch_add(1))
+      ExtractLevel(l, worker, level_kps[static_cast<size_t>(l)], level_desc[static_cast<size_t>(l)]);
+  };
+  if (threads_ > 1) {
+    std::exception_ptr helper_error;
+    std::thread helper([&] {
+      try {
+        work(1);
+      } catch (...) {
+        helper_error = std::current_exception();
+      }
+    });
+    try {
+      work(0);
+    } catch (...) {
+      next = n;  // the helper stops after its current level
+      helper.join();
+      throw;
+    }
+    helper.join();
+    if (helper_error) std::rethrow_exception(helper_error);
+  } else {
+    work(0);
+  }
+
   keypoints.clear();
   std::vector<cv::Mat> level_descriptors;
-  std::vector<cv::KeyPoint> level_kps;
-  for (int l = 0; l < levels(); ++l) {
-    cv::Mat desc;
-    ExtractLevel(l, level_kps, desc);
+  for (int l = 0; l < n; ++l) {
     // To level-0 pixels; size and octave carry the level for matching and BA.
     const auto scale = static_cast<float>(scales_.scale[static_cast<size_t>(l)]);
-    for (cv::KeyPoint& kp : level_kps) {
+    for (cv::KeyPoint& kp : level_kps[static_cast<size_t>(l)]) {
       kp.pt *= scale;
       kp.size = static_cast<float>(kPatchSize) * scale;
       kp.octave = l;
       keypoints.push_back(kp);
     }
+    const cv::Mat& desc = level_desc[static_cast<size_t>(l)];
     if (!desc.empty()) level_descriptors.push_back(desc);
   }
   if (level_descriptors.empty()) {
@@ -61,7 +92,7 @@ void OrbExtractor::Extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypo
   }
 }
 
-void OrbExtractor::ExtractLevel(int level, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) const {
+void OrbExtractor::ExtractLevel(int level, int worker, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) const {
   const cv::Mat& image = pyramid_[static_cast<size_t>(level)];
   const FastCellParams fast{config_.cell_size, config_.fast_threshold, config_.fast_min_threshold};
   const std::vector<cv::KeyPoint> candidates = DetectFastInCells(image, fast);
@@ -73,7 +104,7 @@ void OrbExtractor::ExtractLevel(int level, std::vector<cv::KeyPoint>& keypoints,
     kp.octave = 0;  // the level image is OpenCV's only level
     kp.size = static_cast<float>(kPatchSize);
   }
-  ComputeDescriptorsInOrder(brief_, image, keypoints, descriptors);
+  ComputeDescriptorsInOrder(brief_[worker], image, keypoints, descriptors);
 }
 
 }  // namespace sgslam::features

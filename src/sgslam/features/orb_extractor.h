@@ -4,7 +4,7 @@
 // OpenCV's rotated BRIEF. Per level: pyramid.h, fast_grid.h, quadtree.h,
 // orientation.h, descriptor.h.
 //
-// Threading: not thread-safe. Extract() reuses the pyramid buffers and the
+// Threading: not thread-safe (but see set_threads). Extract() reuses the pyramid buffers and the
 // accessors return references into them, so use one instance per thread
 // (e.g. one for tracking). The next Extract() overwrites the pyramid images in
 // place, so a caller that keeps pyramid() (say, for LK flow on the previous
@@ -34,6 +34,13 @@ class OrbExtractor {
   // level, in a deterministic order; at most config.features of them.
   void Extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors);
 
+  // Levels are independent once the pyramid is built: with 2 threads Extract()
+  // hands every other level to a helper thread (work taken in level order, so
+  // the split balances itself), for the same keypoints and descriptors as with 1.
+  // Worth it only when a core is idle: SlamSystem uses 2 when no detector runs.
+  void set_threads(int threads) { threads_ = threads < 2 ? 1 : 2; }
+  int threads() const { return threads_; }
+
   int levels() const { return static_cast<int>(scales_.scale.size()); }
   const std::vector<double>& scale_factors() const { return scales_.scale; }
   const std::vector<double>& inv_scale_factors() const { return scales_.inv_scale; }
@@ -45,13 +52,17 @@ class OrbExtractor {
 
  private:
   // Keypoints of one level in that level's coordinates, octave 0, and their descriptors.
-  void ExtractLevel(int level, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) const;
+  // `worker` (0 or 1) picks the BRIEF object.
+  void ExtractLevel(int level, int worker, std::vector<cv::KeyPoint>& keypoints, cv::Mat& descriptors) const;
 
   OrbConfig config_;
   ScaleLevels scales_;
   std::vector<int> features_per_level_;
   IntensityCentroid orientation_;
-  cv::Ptr<cv::ORB> brief_;
+  // One rotated-BRIEF object per thread: OpenCV does not promise that
+  // concurrent compute() calls on one Feature2D are safe.
+  cv::Ptr<cv::ORB> brief_[2];
+  int threads_ = 1;
   std::vector<cv::Mat> pyramid_;
 };
 

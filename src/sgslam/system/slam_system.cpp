@@ -25,6 +25,7 @@ SlamSystem::SlamSystem(const Config& config, bool sequential, std::unique_ptr<De
   // OpenCV's own worker threads (resize, blur, LK) would compete with local mapping
   // for the second core in every mode, not only when the detector sets it.
   if (config.detector.threads > 0) cv::setNumThreads(config.detector.threads);
+  extractor_.set_threads(config.orb.threads > 0 ? config.orb.threads : (sequential_ || dynamic_.has_detector() ? 1 : 2));
   if (config.semantic.enabled) semantic_ = std::make_unique<SemanticMapper>(config, map_, sequential);
   if (!sequential_) mapping_thread_ = std::thread([this] { MappingLoop(); });
 }
