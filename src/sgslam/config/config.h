@@ -79,8 +79,9 @@ struct OrbConfig {
   int fast_min_threshold = 7;    // intensity, fallback for cells where the first finds nothing
   int cell_size = 35;            // px, FAST is run per cell of this size
   // Threads of the extraction (levels split between them, same output). 0: 2
-  // when parallel and no detector thread runs, else 1 (the detector has the
-  // second core while ORB runs: paper Fig. 1).
+  // when parallel, no detector thread runs and the machine has more than two
+  // cores, else 1 (on two cores local mapping or the detector, paper Fig. 1,
+  // has the second one; measured: no gain there).
   int threads = 0;
 
   template <class V>
@@ -91,7 +92,7 @@ struct OrbConfig {
     v("fast_threshold", fast_threshold, "intensity, FAST threshold");
     v("fast_min_threshold", fast_min_threshold, "intensity, FAST fallback threshold");
     v("cell_size", cell_size, "px, FAST cell size");
-    v("threads", threads, "extraction threads, 1 or 2; 0: 2 when parallel without a detector");
+    v("threads", threads, "extraction threads, 1 or 2; 0: 2 when parallel without a detector on more than 2 cores");
   }
   void Validate(ConfigChecker& c) const;
 };

@@ -37,7 +37,7 @@ class OrbExtractor {
   // Levels are independent once the pyramid is built: with 2 threads Extract()
   // hands every other level to a helper thread (work taken in level order, so
   // the split balances itself), for the same keypoints and descriptors as with 1.
-  // Worth it only when a core is idle: SlamSystem uses 2 when no detector runs.
+  // Worth it only when a core is idle (see OrbConfig::threads).
   void set_threads(int threads) { threads_ = threads < 2 ? 1 : 2; }
   int threads() const { return threads_; }
 
