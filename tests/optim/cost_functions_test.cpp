@@ -141,42 +141,47 @@ TEST(CostFunctions, PoseOnlyStereoJacobian) { CheckPoseOnly<3>(2); }
 TEST(CostFunctions, BaMonoJacobian) { CheckBa<2>(3); }
 TEST(CostFunctions, BaStereoJacobian) { CheckBa<3>(4); }
 
-// The batch's full residual stack: its tangent Jacobian against central
-// differences through Plus, with half the items beyond the Huber delta (the
-// measurement noise of RandomObservation is up to 3 px, the delta ~1.5-2.8).
-TEST(CostFunctions, PoseOnlyBatchFullJacobianIsExactWithHuberScaling) {
+// The batch's full residual stack. Without a kernel: its tangent Jacobian
+// against central differences through Plus. With Huber kernels, half the items
+// beyond delta (RandomObservation's noise is up to 3 px, delta ~1.5-2.8): the
+// cost is sum rho(chi2), and J^T r (Ceres' sqrt(rho') correction) is the exact
+// gradient of half of it.
+TEST(CostFunctions, PoseOnlyBatchIsHuberPerObservation) {
   std::mt19937 rng(6);
   SE3LeftManifold manifold;
   int beyond = 0;
   for (int trial = 0; trial < 20; ++trial) {
     const SE3 T = RandomPose(rng);
-    std::vector<PoseOnlyBatchCost::Item> items;
+    std::vector<PoseOnlyBatchCost::Item> plain, robust;
     for (int i = 0; i < 30; ++i) {
       PoseOnlyBatchCost::Item it;
       RandomObservation(rng, T, i % 3 != 0, it.p_w, it.m);
       it.m.sqrt_info = 1.0;
+      plain.push_back(it);
       it.huber_delta = i % 5 == 0 ? 0.0 : std::sqrt(it.m.u_right < 0 ? 5.991 : 7.815);
-      items.push_back(it);
+      robust.push_back(it);
     }
-    const PoseOnlyBatchCost cost(kK, items);
+    const PoseOnlyBatchCost plain_cost(kK, plain), robust_cost(kK, robust);
     double x[7];
     PoseToParams(T, x);
     Eigen::VectorXd r;
     Eigen::MatrixXd J;
-    ASSERT_TRUE(cost.EvaluateFull(x, r, &J));
-    // Rows of a Huber item beyond delta have squared norm rho(s) = 2 d sqrt(s) - d^2 < s.
-    int row = 0;
-    for (const auto& it : items) {
-      const int n = it.m.u_right < 0 ? 2 : 3;
-      const SE3 Tc = T;
-      const double s = ReprojectionChi2(kK, it.m, Tc * it.p_w), d = it.huber_delta;
-      const double expected = d > 0 && s > d * d ? 2 * d * std::sqrt(s) - d * d : s;
-      EXPECT_NEAR(r.segment(row, n).squaredNorm(), expected, 1e-9 * std::max(1.0, s));
+    double c = 0, expected = 0;
+    ASSERT_TRUE(robust_cost.EvaluateFull(x, r, &J, &c));
+    for (const auto& it : robust) {
+      const double s = ReprojectionChi2(kK, it.m, T * it.p_w), d = it.huber_delta;
+      expected += d > 0 && s > d * d ? 2 * d * std::sqrt(s) - d * d : s;
       beyond += d > 0 && s > d * d;
-      row += n;
     }
+    EXPECT_NEAR(c, expected, 1e-9 * expected);
+    const Eigen::VectorXd gradient = J.transpose() * r;
+
+    Eigen::VectorXd rp_, rm_;
+    Eigen::MatrixXd Jp;
+    ASSERT_TRUE(plain_cost.EvaluateFull(x, rp_, &Jp));
     const double h = 1e-6;
-    Eigen::MatrixXd Jn(J.rows(), 6);
+    Eigen::MatrixXd Jn(Jp.rows(), 6);
+    Eigen::VectorXd gn(6);
     for (int j = 0; j < 6; ++j) {
       double dp[6] = {0, 0, 0, 0, 0, 0}, xp[7], xm[7];
       dp[j] = h;
@@ -184,17 +189,23 @@ TEST(CostFunctions, PoseOnlyBatchFullJacobianIsExactWithHuberScaling) {
       dp[j] = -h;
       manifold.Plus(x, dp, xm);
       Eigen::VectorXd rp, rm;
-      ASSERT_TRUE(cost.EvaluateFull(xp, rp, nullptr));
-      ASSERT_TRUE(cost.EvaluateFull(xm, rm, nullptr));
+      ASSERT_TRUE(plain_cost.EvaluateFull(xp, rp, nullptr));
+      ASSERT_TRUE(plain_cost.EvaluateFull(xm, rm, nullptr));
       Jn.col(j) = (rp - rm) / (2 * h);
+      double cp = 0, cm = 0;
+      ASSERT_TRUE(robust_cost.EvaluateFull(xp, rp, nullptr, &cp));
+      ASSERT_TRUE(robust_cost.EvaluateFull(xm, rm, nullptr, &cm));
+      gn[j] = 0.5 * (cp - cm) / (2 * h);
     }
-    EXPECT_LT((J - Jn).norm() / std::max(1.0, Jn.norm()), 1e-6);
+    EXPECT_LT((Jp - Jn).norm() / std::max(1.0, Jn.norm()), 1e-6);
+    EXPECT_LT((gradient - gn).norm() / std::max(1.0, gn.norm()), 1e-5);
   }
   EXPECT_GT(beyond, 100) << "the test must reach the Huber region";
 }
 
-// The 7 rows Ceres sees stand for the full stack: same squared norm, and
-// through the manifold the same J^T J and J^T r; without Jacobians [|r|, 0...].
+// The 7 rows Ceres sees stand for the full stack: squared norm = the Huber
+// cost, and through the manifold the same J^T J and J^T r; without Jacobians
+// [sqrt(cost), 0...].
 TEST(CostFunctions, PoseOnlyBatchCompressionKeepsNormalEquations) {
   std::mt19937 rng(7);
   SE3LeftManifold manifold;
@@ -213,7 +224,8 @@ TEST(CostFunctions, PoseOnlyBatchCompressionKeepsNormalEquations) {
     PoseToParams(T, x);
     Eigen::VectorXd r;
     Eigen::MatrixXd J;
-    ASSERT_TRUE(cost.EvaluateFull(x, r, &J));
+    double c = 0;
+    ASSERT_TRUE(cost.EvaluateFull(x, r, &J, &c));
     Eigen::Matrix<double, 7, 1> rc, r0;
     Eigen::Matrix<double, 7, 7, Eigen::RowMajor> Ja;
     const double* params[] = {x};
@@ -225,8 +237,8 @@ TEST(CostFunctions, PoseOnlyBatchCompressionKeepsNormalEquations) {
     const Eigen::Matrix<double, 7, 6> Jt = Ja * P;
     const Eigen::MatrixXd H = J.transpose() * J;
     const Eigen::VectorXd g = J.transpose() * r;
-    EXPECT_NEAR(rc.squaredNorm(), r.squaredNorm(), 1e-9 * r.squaredNorm());
-    EXPECT_NEAR(r0[0], r.norm(), 1e-9 * r.norm());
+    EXPECT_NEAR(rc.squaredNorm(), c, 1e-9 * c);
+    EXPECT_NEAR(r0[0], std::sqrt(c), 1e-9 * std::sqrt(c));
     EXPECT_EQ(r0.tail<6>().norm(), 0.0);
     EXPECT_LT((Jt.transpose() * Jt - H).norm(), 1e-8 * H.norm());
     EXPECT_LT((Jt.transpose() * rc - g).norm(), 1e-8 * std::max(1.0, g.norm()));

@@ -110,23 +110,23 @@ bool BaReprojectionCost<N>::Evaluate(double const* const* parameters, double* re
 
 namespace {
 
-// One observation of PoseOnlyBatchCost: residual (N rows at r) and, when J is
-// given, its N x 6 tangent Jacobian, both after the Huber scaling.
+// One observation of PoseOnlyBatchCost at the pose (q, t): its residual (N
+// rows at r, unscaled) and, when J is given, its N x 6 tangent Jacobian; rho
+// and w are the Huber cost rho(s) of s = |r|^2 and its derivative rho'(s)
+// (s and 1 without a kernel or within delta).
 template <int N>
-bool RobustPoseRows(const Intrinsics& K, const PoseOnlyBatchCost::Item& item, const Eigen::Quaterniond& q,
-                    const Eigen::Vector3d& t, double* r, Eigen::Matrix<double, N, 6>* J) {
+bool PoseRows(const Intrinsics& K, const PoseOnlyBatchCost::Item& item, const Eigen::Quaterniond& q,
+              const Eigen::Vector3d& t, double* r, Eigen::Matrix<double, N, 6>* J, double& rho, double& w) {
   const Eigen::Vector3d p_c = q * item.p_w + t;
   Eigen::Matrix<double, N, 3> J_pc;
   if (!ProjectionResidual<N>(K, item.m, p_c, r, J != nullptr ? &J_pc : nullptr)) return false;
-  Eigen::Map<Eigen::Matrix<double, N, 1>> res(r);
-  const double s = res.squaredNorm(), d = item.huber_delta;
-  if (d > 0 && s > d * d) {
-    // Huber beyond delta: rho = 2 d sqrt(s) - d^2. Scale g = sqrt(rho / s), and
-    // d(g r)/dx = g J + r (dg/ds) 2 r^T J with dg/ds = (rho' s - rho) / (2 g s^2).
-    const double root = std::sqrt(s), rho = 2 * d * root - d * d, rho1 = d / root;
-    const double g = std::sqrt(rho / s), dg = (rho1 * s - rho) / (2 * g * s * s);
-    if (J != nullptr) J_pc = g * J_pc + (2 * dg) * res * (res.transpose() * J_pc);
-    res *= g;
+  const double s = Eigen::Map<const Eigen::Matrix<double, N, 1>>(r).squaredNorm(), d = item.huber_delta;
+  rho = s;
+  w = 1;
+  if (d > 0 && s > d * d) {  // Huber beyond delta: rho = 2 d sqrt(s) - d^2
+    const double root = std::sqrt(s);
+    rho = 2 * d * root - d * d;
+    w = d / root;
   }
   if (J != nullptr) {
     // Exp([rho; phi]) * T moves p_c by rho + phi x p_c.
@@ -144,25 +144,32 @@ PoseOnlyBatchCost::PoseOnlyBatchCost(const Intrinsics& K, std::vector<Item> item
   mutable_parameter_block_sizes()->push_back(7);
 }
 
-bool PoseOnlyBatchCost::EvaluateFull(const double* pose, Eigen::VectorXd& r, Eigen::MatrixXd* J) const {
+bool PoseOnlyBatchCost::EvaluateFull(const double* pose, Eigen::VectorXd& r, Eigen::MatrixXd* J,
+                                     double* cost) const {
   const Eigen::Map<const Eigen::Quaterniond> q(pose);
   const Eigen::Map<const Eigen::Vector3d> t(pose + 4);
   r.resize(rows_);
   if (J != nullptr) J->resize(rows_, 6);
+  double c = 0;
   int row = 0;
   for (const Item& item : items_) {
-    if (item.m.u_right >= 0) {
-      Eigen::Matrix<double, 3, 6> Ji;
-      if (!RobustPoseRows<3>(K_, item, q, t, r.data() + row, J != nullptr ? &Ji : nullptr)) return false;
-      if (J != nullptr) J->middleRows<3>(row) = Ji;
-      row += 3;
-    } else {
-      Eigen::Matrix<double, 2, 6> Ji;
-      if (!RobustPoseRows<2>(K_, item, q, t, r.data() + row, J != nullptr ? &Ji : nullptr)) return false;
-      if (J != nullptr) J->middleRows<2>(row) = Ji;
-      row += 2;
+    const int n = item.m.u_right >= 0 ? 3 : 2;
+    double rho = 0, w = 1;
+    Eigen::Matrix<double, 3, 6> J3;
+    Eigen::Matrix<double, 2, 6> J2;
+    const bool ok = n == 3 ? PoseRows<3>(K_, item, q, t, r.data() + row, J != nullptr ? &J3 : nullptr, rho, w)
+                           : PoseRows<2>(K_, item, q, t, r.data() + row, J != nullptr ? &J2 : nullptr, rho, w);
+    if (!ok) return false;
+    // Ceres' correction for a HuberLoss block (rho'' <= 0): rows and Jacobian times sqrt(rho').
+    r.segment(row, n) *= std::sqrt(w);
+    if (J != nullptr) {
+      if (n == 3) J->middleRows<3>(row) = std::sqrt(w) * J3;
+      else J->middleRows<2>(row) = std::sqrt(w) * J2;
     }
+    c += rho;
+    row += n;
   }
+  if (cost != nullptr) *cost = c;
   return true;
 }
 
@@ -170,30 +177,31 @@ bool PoseOnlyBatchCost::Evaluate(double const* const* parameters, double* residu
   const Eigen::Map<const Eigen::Quaterniond> q(parameters[0]);
   const Eigen::Map<const Eigen::Vector3d> t(parameters[0] + 4);
   const bool want_J = jacobians != nullptr && jacobians[0] != nullptr;
-  // Accumulated in one pass: c = |r|^2, and with Jacobians H = J^T J, g = J^T r.
+  // Accumulated in one pass: c = sum rho, and with Jacobians H = sum w J^T J,
+  // g = sum w J^T r (the gradient of c / 2 and Ceres' Gauss-Newton matrix).
   double c = 0;
   Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
   Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
   for (const Item& item : items_) {
+    double rho = 0, w = 1;
     if (item.m.u_right >= 0) {
       Eigen::Matrix<double, 3, 1> r;
       Eigen::Matrix<double, 3, 6> Ji;
-      if (!RobustPoseRows<3>(K_, item, q, t, r.data(), want_J ? &Ji : nullptr)) return false;
-      c += r.squaredNorm();
+      if (!PoseRows<3>(K_, item, q, t, r.data(), want_J ? &Ji : nullptr, rho, w)) return false;
       if (want_J) {
-        H.noalias() += Ji.transpose() * Ji;
-        g.noalias() += Ji.transpose() * r;
+        H.noalias() += w * (Ji.transpose() * Ji);
+        g.noalias() += w * (Ji.transpose() * r);
       }
     } else {
       Eigen::Matrix<double, 2, 1> r;
       Eigen::Matrix<double, 2, 6> Ji;
-      if (!RobustPoseRows<2>(K_, item, q, t, r.data(), want_J ? &Ji : nullptr)) return false;
-      c += r.squaredNorm();
+      if (!PoseRows<2>(K_, item, q, t, r.data(), want_J ? &Ji : nullptr, rho, w)) return false;
       if (want_J) {
-        H.noalias() += Ji.transpose() * Ji;
-        g.noalias() += Ji.transpose() * r;
+        H.noalias() += w * (Ji.transpose() * Ji);
+        g.noalias() += w * (Ji.transpose() * r);
       }
     }
+    c += rho;
   }
   Eigen::Map<Eigen::Matrix<double, 7, 1>> out(residuals);
   if (!want_J) {

@@ -71,16 +71,17 @@ class BaReprojectionCost final : public ceres::SizedCostFunction<N, 7, 3> {
 // Pose-only, every observation in one residual block of 7 rows. Ceres spends
 // most of a pose optimisation on bookkeeping proportional to the Jacobian's
 // size (measured: ~80 % with one block an observation, still ~60 % with one
-// block of 3n rows), so the block hands Ceres an equivalent 7-row problem:
-// with J (3n x 6, tangent) and r the stacked observations, H = J^T J = R^T R
-// (Cholesky), the block returns r' = [R^-T J^T r; sqrt(|r|^2 - |R^-T J^T r|^2)]
-// and J' = [R; 0]. Then |r'| = |r|, J'^T J' = H and J'^T r' = J^T r, so every
-// Levenberg-Marquardt step, cost and tolerance test is the full problem's.
-// (Without Jacobians it returns [|r|, 0...].) The Huber kernel is applied per
-// observation: with s = |r_i|^2 the rows are r_i * sqrt(rho(s)/s), whose
-// squared norm is rho(s) (what one HuberLoss per observation gives), with their
-// exact Jacobian, so the minimum is the same. Evaluation fails for a point
-// behind the camera, or when H is not positive definite (degenerate geometry).
+// block of 3n rows), so the block hands Ceres an equivalent 7-row problem.
+// Per observation i (residual r_i, tangent Jacobian J_i, s_i = |r_i|^2) it sums
+// c = sum rho(s_i), H = sum w_i J_i^T J_i and g = sum w_i J_i^T r_i with
+// w_i = rho'(s_i): exactly what Ceres makes of one block and one HuberLoss per
+// observation (its correction for rho'' <= 0, as Huber's is). With H = R^T R
+// (Cholesky) it returns r' = [R^-T g; sqrt(c - |R^-T g|^2)] and J' = [R; 0]:
+// |r'|^2 = c, J'^T J' = H, J'^T r' = g, so every Levenberg-Marquardt step,
+// cost and tolerance test is that problem's. c >= |R^-T g|^2 holds because
+// rho(s) >= rho'(s) s for Huber. (Without Jacobians it returns [sqrt(c), 0...].)
+// Evaluation fails for a point behind the camera, or when H is not positive
+// definite (degenerate geometry).
 class PoseOnlyBatchCost final : public ceres::CostFunction {
  public:
   struct Item {
@@ -91,10 +92,11 @@ class PoseOnlyBatchCost final : public ceres::CostFunction {
   PoseOnlyBatchCost(const Intrinsics& K, std::vector<Item> items);
   bool Evaluate(double const* const* parameters, double* residuals, double** jacobians) const override;
 
-  // The stacked, Huber-scaled residuals (3 or 2 rows per item) and, when J is
-  // given, their tangent Jacobian (rows x 6, left perturbation [rho; phi]):
-  // the full problem the 7 rows stand for (tests). False behind the camera.
-  bool EvaluateFull(const double* pose, Eigen::VectorXd& r, Eigen::MatrixXd* J) const;
+  // The full problem the 7 rows stand for (tests): the stacked residuals (3 or
+  // 2 rows per item) and, when J is given, their tangent Jacobian (rows x 6,
+  // left perturbation [rho; phi]), both times sqrt(w_i) as Ceres corrects
+  // them; cost (if given) = sum rho(s_i). False behind the camera.
+  bool EvaluateFull(const double* pose, Eigen::VectorXd& r, Eigen::MatrixXd* J, double* cost = nullptr) const;
 
  private:
   Intrinsics K_;
