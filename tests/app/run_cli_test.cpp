@@ -54,6 +54,24 @@ TEST(RunCommand, GoodDatasetWritesConfigFramesAndStats) {
   EXPECT_EQ(rows, 5);  // header + 4 frames
 }
 
+// --realtime hands frames over at their timestamps' pace: 10 frames at 30 Hz
+// take at least 0.3 s of wall time (a lower bound set by the pacing, not a
+// speed figure), and stats.json records the mode.
+TEST(RunCommand, RealtimePacesFramesByTheirTimestamps) {
+  TempDir tmp;
+  test::WriteTinyDataset(tmp / "seq", 10);
+  std::vector<std::string> args = RunArgs(tmp);
+  args.push_back("--realtime");
+  const auto r = RunSgslam(args);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream stats_file(tmp / "out" / "stats.json");
+  const auto stats = nlohmann::json::parse(stats_file);
+  EXPECT_EQ(stats["realtime"], true);
+  EXPECT_EQ(stats["frames"], 10);
+  // fps counts from the first frame to the end: 10 frames spanning 9/30 s.
+  EXPECT_LE(stats["fps"].get<double>(), 10.0 / 0.3 + 1e-6);
+}
+
 TEST(RunCommand, UsageErrorsExitWith2) {
   ExpectFailure({"run"}, 2, {"--dataset"});
   ExpectFailure({"run", "--dataset", "x", "--mode", "magic"}, 2, {"magic"});
