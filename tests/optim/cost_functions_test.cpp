@@ -55,6 +55,15 @@ ceres::NumericDiffOptions RiddersOptions() {
   return o;
 }
 
+// The poses Plus(x, +-h e_j): central differences along tangent direction j.
+void PlusMinus(const SE3LeftManifold& manifold, const double* x, int j, double h, double* xp, double* xm) {
+  double d[6] = {0, 0, 0, 0, 0, 0};
+  d[j] = h;
+  manifold.Plus(x, d, xp);
+  d[j] = -h;
+  manifold.Plus(x, d, xm);
+}
+
 double RelativeError(const Matrix& analytic, const Matrix& numeric) {
   return (analytic - numeric).norm() / std::max(1.0, numeric.norm());
 }
@@ -86,11 +95,8 @@ void CheckCost(const ceres::CostFunction& cost, const ceres::CostFunction& numer
   manifold.PlusJacobian(params[0], P.data());
   const double h = 1e-6;
   for (int j = 0; j < 6; ++j) {
-    double d[6] = {0, 0, 0, 0, 0, 0}, xp[7], xm[7];
-    d[j] = h;
-    manifold.Plus(params[0], d, xp);
-    d[j] = -h;
-    manifold.Plus(params[0], d, xm);
+    double xp[7], xm[7];
+    PlusMinus(manifold, params[0], j, h, xp, xm);
     Eigen::VectorXd rp(nr), rm(nr);
     std::vector<double*> pp = params, pm = params;
     pp[0] = xp;
@@ -183,11 +189,8 @@ TEST(CostFunctions, PoseOnlyBatchIsHuberPerObservation) {
     Eigen::MatrixXd Jn(Jp.rows(), 6);
     Eigen::VectorXd gn(6);
     for (int j = 0; j < 6; ++j) {
-      double dp[6] = {0, 0, 0, 0, 0, 0}, xp[7], xm[7];
-      dp[j] = h;
-      manifold.Plus(x, dp, xp);
-      dp[j] = -h;
-      manifold.Plus(x, dp, xm);
+      double xp[7], xm[7];
+      PlusMinus(manifold, x, j, h, xp, xm);
       Eigen::VectorXd rp, rm;
       ASSERT_TRUE(plain_cost.EvaluateFull(xp, rp, nullptr));
       ASSERT_TRUE(plain_cost.EvaluateFull(xm, rm, nullptr));
@@ -308,11 +311,8 @@ TEST(SE3LeftManifold, RoundTripsAndJacobians) {
     manifold.MinusJacobian(x, M.data());
     const double h = 1e-6;
     for (int j = 0; j < 6; ++j) {
-      double dp[6] = {0, 0, 0, 0, 0, 0}, xp[7], xm[7];
-      dp[j] = h;
-      manifold.Plus(x, dp, xp);
-      dp[j] = -h;
-      manifold.Plus(x, dp, xm);
+      double xp[7], xm[7];
+      PlusMinus(manifold, x, j, h, xp, xm);
       for (int i = 0; i < 7; ++i) Pn(i, j) = (xp[i] - xm[i]) / (2 * h);
     }
     for (int j = 0; j < 7; ++j) {

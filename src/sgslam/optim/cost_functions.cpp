@@ -136,6 +136,23 @@ bool PoseRows(const Intrinsics& K, const PoseOnlyBatchCost::Item& item, const Ei
   return true;
 }
 
+// Adds one observation to c = sum rho, H = sum w J^T J and g = sum w J^T r.
+template <int N>
+bool AccumulateNormal(const Intrinsics& K, const PoseOnlyBatchCost::Item& item, const Eigen::Quaterniond& q,
+                      const Eigen::Vector3d& t, bool want_J, double& c, Eigen::Matrix<double, 6, 6>& H,
+                      Eigen::Matrix<double, 6, 1>& g) {
+  Eigen::Matrix<double, N, 1> r;
+  Eigen::Matrix<double, N, 6> J;
+  double rho = 0, w = 1;
+  if (!PoseRows<N>(K, item, q, t, r.data(), want_J ? &J : nullptr, rho, w)) return false;
+  c += rho;
+  if (want_J) {
+    H.noalias() += w * (J.transpose() * J);
+    g.noalias() += w * (J.transpose() * r);
+  }
+  return true;
+}
+
 }  // namespace
 
 PoseOnlyBatchCost::PoseOnlyBatchCost(const Intrinsics& K, std::vector<Item> items) : K_(K), items_(std::move(items)) {
@@ -183,25 +200,9 @@ bool PoseOnlyBatchCost::Evaluate(double const* const* parameters, double* residu
   Eigen::Matrix<double, 6, 6> H = Eigen::Matrix<double, 6, 6>::Zero();
   Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
   for (const Item& item : items_) {
-    double rho = 0, w = 1;
-    if (item.m.u_right >= 0) {
-      Eigen::Matrix<double, 3, 1> r;
-      Eigen::Matrix<double, 3, 6> Ji;
-      if (!PoseRows<3>(K_, item, q, t, r.data(), want_J ? &Ji : nullptr, rho, w)) return false;
-      if (want_J) {
-        H.noalias() += w * (Ji.transpose() * Ji);
-        g.noalias() += w * (Ji.transpose() * r);
-      }
-    } else {
-      Eigen::Matrix<double, 2, 1> r;
-      Eigen::Matrix<double, 2, 6> Ji;
-      if (!PoseRows<2>(K_, item, q, t, r.data(), want_J ? &Ji : nullptr, rho, w)) return false;
-      if (want_J) {
-        H.noalias() += w * (Ji.transpose() * Ji);
-        g.noalias() += w * (Ji.transpose() * r);
-      }
-    }
-    c += rho;
+    const bool ok = item.m.u_right >= 0 ? AccumulateNormal<3>(K_, item, q, t, want_J, c, H, g)
+                                        : AccumulateNormal<2>(K_, item, q, t, want_J, c, H, g);
+    if (!ok) return false;
   }
   Eigen::Map<Eigen::Matrix<double, 7, 1>> out(residuals);
   if (!want_J) {
