@@ -39,7 +39,8 @@ BaProblem MakeProblem(int free_kf, int fixed_kf, int points, unsigned seed) {
   std::vector<Eigen::Vector3d> p_true;
   for (int p = 0; p < points; ++p) {
     p_true.push_back(target + Eigen::Vector3d(4 * U(rng) - 2, 2 * U(rng) - 1, 3 * U(rng) - 1.5));
-    pb.points.push_back({static_cast<std::uint64_t>(p), p_true.back() + 0.05 * Eigen::Vector3d(N(rng), N(rng), N(rng))});
+    const Eigen::Vector3d noise = 0.05 * Eigen::Vector3d(N(rng), N(rng), N(rng));
+    pb.points.push_back({static_cast<std::uint64_t>(p), p_true.back() + noise});
   }
   for (int p = 0; p < points; ++p) {
     for (int k = 0; k < n_kf; ++k) {

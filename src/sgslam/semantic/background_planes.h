@@ -19,7 +19,8 @@ struct Plane {
 
 struct PlaneFitOptions {
   int max_planes = 2;          // floor and one wall is the common case
-  double min_share = 0.12;     // of the ring points, for a plane to count (a wall beside an object in a corner holds little of the ring)
+  double min_share = 0.12;     // of the ring points, for a plane to count (low: a wall beside an
+                               // object in a corner holds little of the ring)
   int min_points = 30;         // ring points on a plane, at least
   float tolerance = 0.03f;     // m, distance from a plane counted as on it
   int iterations = 100;        // RANSAC draws per plane

@@ -182,7 +182,8 @@ bool Tracker::Recover(Frame& frame, TrackResult& result) {
       object.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
       image.push_back(f.keys_un[i].pt);
     }
-    const std::optional<SE3> T_c_w = dynamic::SolvePnPMotion(object, image, K, 300, 4.0, config_.tracking.min_pose_inliers);
+    const std::optional<SE3> T_c_w =
+        dynamic::SolvePnPMotion(object, image, K, 300, 4.0, config_.tracking.min_pose_inliers);
     if (!T_c_w) continue;
     frame.T_c_w = *T_c_w;
     const int inliers = OptimizePose(frame);
