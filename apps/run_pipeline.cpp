@@ -5,6 +5,7 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
@@ -89,6 +90,15 @@ RunSummary RunSequence(const RunOptions& o) {
   spdlog::info("mode {}, detector: {}", config.dynamic.mode, system.DescribeDetector());
   std::vector<FrameReport> reports;
   const eval::MaskIndex masks(dataset_dir);  // ground-truth dynamic masks, when the sequence has them
+  std::optional<eval::MaskIndex> truth_masks;  // dynamic.truth_masks: masks that replace the verdicts
+  if (!config.dynamic.truth_masks.empty()) {
+    truth_masks.emplace(config.dynamic.truth_masks);
+    if (truth_masks->empty()) {
+      throw InputError("dynamic.truth_masks = " + config.dynamic.truth_masks + ": no mask.txt there");
+    }
+    spdlog::warn("dynamic.truth_masks: ground-truth masks from {} replace the {} verdicts (evaluation only)",
+                 config.dynamic.truth_masks, config.dynamic.mode);
+  }
   eval::MaskScore truth;
   std::string failure;
   Stopwatch wall;
@@ -105,6 +115,11 @@ RunSummary RunSequence(const RunOptions& o) {
           std::this_thread::sleep_until(start + std::chrono::nanoseconds(frame->t - t_first));
         }
         if (reports.empty()) CheckDepthScale(*frame, dataset.frames()[frame->index], config.camera, config.dataset);
+        if (truth_masks) {
+          auto mask = truth_masks->Load(frame->t);
+          if (!mask) throw InputError("dynamic.truth_masks: no mask for the frame at " + FormatTimestamp(frame->t));
+          frame->truth_mask = std::move(*mask);
+        }
         reports.push_back(system.Process(*frame));
         FrameReport& r = reports.back();
         if (auto mask = masks.Load(r.t)) truth.Add(eval::ScoreKeypoints(*mask, r.keypoints, r.rejected));
@@ -238,6 +253,7 @@ RunSummary RunSequence(const RunOptions& o) {
                         {"detector_processed", d.processed},
                         {"detector_dropped", d.dropped},
                         {"detector_errors", d.errors}};
+    if (truth_masks) stats["dynamic"]["truth_masks"] = config.dynamic.truth_masks;
   }
   if (truth.frames > 0) {
     stats["dynamic"]["truth"] = {{"frames", truth.frames},

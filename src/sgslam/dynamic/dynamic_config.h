@@ -26,6 +26,11 @@ namespace sgslam {
 
 struct DynamicConfig {
   std::string mode = "sg";  // none | semantic | geometric | sg (paper Sec. IV-C ablation)
+  // Evaluation only: a folder with mask.txt + mask/*.png (sgslam synth, dyn_dev).
+  // Its ground-truth masks replace the mode's verdicts: exactly the keypoints on
+  // moving pixels are rejected. It measures what perfect rejection would give the
+  // rest of the system (with --mode none, no detector or flow runs). Empty: off.
+  std::string truth_masks;
   double eps_std = 3.0;     // px, epipolar distance threshold eps_std (Algorithm 1 lines 6, 10)
   // Lucas-Kanade flow (Algorithm 1 line 1), the release's settings.
   int lk_window = 21;         // px, side of the square LK window
@@ -104,6 +109,7 @@ struct DynamicConfig {
   template <class V>
   void Visit(V&& v) {
     v("mode", mode, "none | semantic | geometric | sg");
+    v("truth_masks", truth_masks, "evaluation: folder of ground-truth masks that replace the verdicts; empty: off");
     v("eps_std", eps_std, "px, epipolar distance threshold");
     v("lk_window", lk_window, "px, LK window side");
     v("lk_levels", lk_levels, "LK pyramid levels above the image");

@@ -41,6 +41,21 @@ void DynamicStage::Submit(std::uint64_t frame_id, Timestamp t, const cv::Mat& bg
   if (worker_) worker_->Submit(frame_id, t, bgr);
 }
 
+void DynamicStage::ApplyTruthMask(const cv::Mat& mask, const std::vector<cv::KeyPoint>& keys, DynamicOutcome& out) {
+  out.dynamic.assign(keys.size(), 0);
+  out.kept = 0;
+  out.rejected_geometry = out.rejected_depth = out.rejected_track = 0;
+  for (std::size_t i = 0; i < keys.size(); ++i) {
+    // The pixel eval::ScoreKeypoints scores the keypoint by.
+    const int x = std::clamp(cvRound(keys[i].pt.x), 0, mask.cols - 1);
+    const int y = std::clamp(cvRound(keys[i].pt.y), 0, mask.rows - 1);
+    out.dynamic[i] = mask.at<std::uint8_t>(y, x) != 0 ? 1 : 0;
+    out.kept += out.dynamic[i] == 0;
+  }
+  out.rejected_semantics = static_cast<int>(keys.size()) - out.kept;
+  out.judged = true;
+}
+
 DetectionWorkerStats DynamicStage::detector_stats() const { return worker_ ? worker_->stats() : DetectionWorkerStats{}; }
 
 int DynamicStage::ApplyMultiFrameChecks(const std::vector<cv::KeyPoint>& keys,

@@ -72,6 +72,10 @@ class DynamicStage {
 
   DetectionWorkerStats detector_stats() const;
 
+  // dynamic.truth_masks: replaces out's verdicts by the ground-truth mask (CV_8UC1,
+  // non-zero = moving) at each keypoint; the rejections count as semantic ones.
+  static void ApplyTruthMask(const cv::Mat& mask, const std::vector<cv::KeyPoint>& keys, DynamicOutcome& out);
+
  private:
   // The checks on top of Algorithm 1's verdicts r (track_memory.h, neighbours.h);
   // returns how many kept keypoints they rejected.

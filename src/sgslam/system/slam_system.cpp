@@ -88,6 +88,7 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
   report.extract_ms = watch.ElapsedMs();
 
   DynamicOutcome dyn = dynamic_.Label(frame_id, gray, images.depth, keys, tracker_.PredictedMotion());
+  if (!images.truth_mask.empty()) DynamicStage::ApplyTruthMask(images.truth_mask, keys, dyn);
   report.kept = dyn.judged ? dyn.kept : static_cast<int>(keys.size());
   report.rejected_geometry = dyn.rejected_geometry;
   report.rejected_semantics = dyn.rejected_semantics;
