@@ -7,7 +7,8 @@
 # panel medians, run on the same machine.
 #   scripts/ate_panel.sh DATASET OUT_DIR [CONFIG.yaml] [extra `sgslam run` options]
 # CONFIG.yaml may set anything but orb.features (the panel sets that).
-# Environment: FEATURES="..." replaces the budgets.
+# Environment: FEATURES="..." replaces the budgets; SGSLAM_BIN another binary
+# (default build/sgslam), e.g. a copy kept while the tree is rebuilt.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ $# -lt 2 ]; then
@@ -18,7 +19,9 @@ dataset=$1
 out=$2
 shift 2
 base=""
-if [ $# -ge 1 ] && [[ "$1" != -* ]]; then
+if [ $# -ge 1 ] && [ -z "$1" ]; then
+  shift  # an empty CONFIG argument: none
+elif [ $# -ge 1 ] && [[ "$1" != -* ]]; then
   base=$1
   shift
   [ -f "$base" ] || { echo "ate_panel.sh: config $base not found" >&2; exit 1; }
@@ -28,7 +31,9 @@ if [ $# -ge 1 ] && [[ "$1" != -* ]]; then
   fi
 fi
 command -v python3 >/dev/null || { echo "ate_panel.sh: needs python3 (scripts/setup.sh installs it)" >&2; exit 1; }
-[ -x build/sgslam ] || scripts/setup.sh
+bin=${SGSLAM_BIN:-build/sgslam}
+[ -n "${SGSLAM_BIN:-}" ] || [ -x build/sgslam ] || scripts/setup.sh
+[ -x "$bin" ] || { echo "ate_panel.sh: $bin is not an executable" >&2; exit 1; }
 [ -f "$dataset/groundtruth.txt" ] || { echo "ate_panel.sh: $dataset/groundtruth.txt is missing: no ATE" >&2; exit 1; }
 mkdir -p "$out"
 
@@ -37,7 +42,7 @@ for n in $features; do
   cfg="$out/config_$n.yaml"
   { [ -n "$base" ] && cat "$base" && echo; printf 'orb:\n  features: %s\n' "$n"; } > "$cfg"
   echo "ate_panel: orb.features $n" >&2
-  build/sgslam -q run --dataset "$dataset" --out "$out/f$n" --config "$cfg" --sequential "$@" >&2
+  "$bin" -q run --dataset "$dataset" --out "$out/f$n" --config "$cfg" --sequential "$@" >&2
 done
 
 python3 - "$out" $features <<'EOF'
