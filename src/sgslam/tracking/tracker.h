@@ -71,6 +71,9 @@ class Tracker {
   SE3 last_T_c_r_;  // last frame's pose relative to its reference keyframe
   std::uint64_t last_keyframe_frame_id_ = 0;
   double th_depth_ = 0;  // m, the close/far limit of depth points
+  // Frames the initialisation waited for more kept keypoints with depth (Initialize).
+  static constexpr int kMaxInitDeferrals = 5;
+  int init_deferred_ = 0;
 };
 
 }  // namespace sgslam
