@@ -91,11 +91,14 @@ RunSummary RunSequence(const RunOptions& o) {
   std::vector<FrameReport> reports;
   const eval::MaskIndex masks(dataset_dir);  // ground-truth dynamic masks, when the sequence has them
   std::optional<eval::MaskIndex> truth_masks;  // dynamic.truth_masks: masks that replace the verdicts
+  bool truth_scores = false;                   // ... and are the dataset's own: score with the loaded mask
   if (!config.dynamic.truth_masks.empty()) {
     truth_masks.emplace(config.dynamic.truth_masks);
     if (truth_masks->empty()) {
       throw InputError("dynamic.truth_masks = " + config.dynamic.truth_masks + ": no mask.txt there");
     }
+    std::error_code same_ec;
+    truth_scores = fs::equivalent(config.dynamic.truth_masks, dataset_dir, same_ec);
     spdlog::warn("dynamic.truth_masks: ground-truth masks from {} replace the {} verdicts (evaluation only)",
                  config.dynamic.truth_masks, config.dynamic.mode);
   }
@@ -122,7 +125,11 @@ RunSummary RunSequence(const RunOptions& o) {
         }
         reports.push_back(system.Process(*frame));
         FrameReport& r = reports.back();
-        if (auto mask = masks.Load(r.t)) truth.Add(eval::ScoreKeypoints(*mask, r.keypoints, r.rejected));
+        if (truth_scores) {  // the same file: read once per frame
+          truth.Add(eval::ScoreKeypoints(frame->truth_mask, r.keypoints, r.rejected));
+        } else if (auto mask = masks.Load(r.t)) {
+          truth.Add(eval::ScoreKeypoints(*mask, r.keypoints, r.rejected));
+        }
         r.keypoints = {};  // keep the per-frame record small
         r.rejected = {};
         progress.Update(reports.size(), reports.size() / (wall.ElapsedMs() * 1e-3));
