@@ -90,12 +90,12 @@ bool Tracker::Initialize(Frame& frame, TrackResult& result) {
   if (with_depth < config_.tracking.min_init_points) return false;
   // The map starts from the keypoints that dynamic rejection kept. When it kept
   // few of them (a first frame whose false-positive boxes cover most of the image,
-  // with no flow yet to judge by), a map of a couple of hundred points can lose the
-  // next frame for good (seen on dyn_dev: 183 points, then 299 frames lost): wait
-  // for a frame that keeps at least half of min_init_points, but not forever (a
-  // scene that stays covered by movers must still start). Half: on fr1_rpy the
-  // first frame keeps ~400 of its 1000 keypoints under a false "person" box and
-  // starts well from them.
+  // with no flow yet to judge by), a map of a hundred points can lose the next
+  // frame for good (dyn_dev with dynamic.min_kept_ratio 0.1: 102 points, then 299
+  // frames lost): wait for a frame that keeps at least half of min_init_points,
+  // but not forever (a scene that stays covered by movers must still start).
+  // Half: on fr1_rpy the first frame keeps ~400 of its 1000 keypoints under a
+  // false "person" box and starts well from them.
   int usable = 0;
   for (std::size_t i = 0; i < depth.size(); ++i) usable += depth[i] > 0 && frame.usable(i);
   if (2 * usable < config_.tracking.min_init_points && init_deferred_ < kMaxInitDeferrals) {
