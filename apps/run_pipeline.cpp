@@ -291,6 +291,9 @@ RunSummary RunSequence(const RunOptions& o) {
                             {"median_cull_ms", mapping_median(&MappingStats::cull_ms)},
                             {"median_ba_keyframes", mapping_median(&MappingStats::local_keyframes)},
                             {"median_ba_points", mapping_median(&MappingStats::local_points)}};
+  if (const auto& gba = system.final_ba()) {
+    stats["final_ba"] = {{"ms", gba->ms}, {"keyframes", gba->local_keyframes}, {"points", gba->local_points}};
+  }
   if (const auto gt_path = dataset.groundtruth_path(); gt_path && trajectory.size() >= 3) {
     try {
       const auto ate = eval::ComputeAte(ReadTumTrajectory(*gt_path), trajectory, FromSeconds(0.02));

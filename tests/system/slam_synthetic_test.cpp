@@ -3,6 +3,8 @@
 // same trajectory bit for bit on every run.
 #include <gtest/gtest.h>
 
+#include <functional>
+#include <optional>
 #include <shared_mutex>
 
 #include "sgslam/eval/ate.h"
@@ -22,6 +24,8 @@ struct Outcome {
   Trajectory trajectory;
   std::size_t frames = 0, tracked = 0;
   std::vector<std::string> map_problems;
+  std::size_t keyframes = 0;
+  std::optional<MappingStats> final_ba;
 };
 
 // blank: frames [first, last) arrive black and without depth (a covered lens).
@@ -29,8 +33,10 @@ struct Outcome {
 // marked moving (dynamic.truth_masks' path), as a frame whose false-positive
 // boxes cover nearly everything would be.
 Outcome RunOn(const fs::path& dir, bool sequential, std::pair<std::size_t, std::size_t> blank = {0, 0},
-              std::size_t covered = 0, std::vector<TrackState>* states = nullptr) {
-  const RunConfig rc = ResolveRunConfig(std::nullopt, dir);
+              std::size_t covered = 0, std::vector<TrackState>* states = nullptr,
+              const std::function<void(Config&)>& tweak = {}) {
+  RunConfig rc = ResolveRunConfig(std::nullopt, dir);
+  if (tweak) tweak(rc.config);
   const TumDataset dataset(dir, rc.config.dataset);
   SlamSystem system(rc.config, sequential);
   FrameStream stream(dataset, rc.config.camera, 2);
@@ -52,6 +58,8 @@ Outcome RunOn(const fs::path& dir, bool sequential, std::pair<std::size_t, std::
   system.Finish();
   out.trajectory = system.FrameTrajectory();
   out.map_problems = system.CheckMap();
+  out.keyframes = system.NumKeyFrames();
+  out.final_ba = system.final_ba();
   return out;
 }
 
@@ -97,6 +105,40 @@ TEST_F(SlamSynthetic, StaticSceneParallelTracksEveryFrame) {
   EXPECT_TRUE(a.map_problems.empty()) << a.map_problems.front();
   const auto ate = eval::ComputeAte(ReadTumTrajectory(seq / "groundtruth.txt"), a.trajectory, FromSeconds(0.02));
   EXPECT_LT(ate.stats.rmse, 0.015);
+}
+
+// mapping.final_ba_iterations (on by default): one bundle adjustment of the whole
+// map when the sequence ends. Every keyframe takes part, the map stays consistent, the
+// trajectory (exported relative to the keyframes) follows and is no worse, and
+// the run stays deterministic.
+TEST_F(SlamSynthetic, FinalBundleAdjustmentRefinesTheWholeMap) {
+  const fs::path seq = dir_->path() / "static";
+  const auto gt = ReadTumTrajectory(seq / "groundtruth.txt");
+  const Outcome plain =
+      RunOn(seq, /*sequential=*/true, {0, 0}, 0, nullptr, [](Config& c) { c.mapping.final_ba_iterations = 0; });
+  EXPECT_FALSE(plain.final_ba.has_value());
+  const auto with_final_ba = [](Config& c) { c.mapping.final_ba_iterations = 10; };
+  const Outcome a = RunOn(seq, /*sequential=*/true, {0, 0}, 0, nullptr, with_final_ba);
+  ASSERT_TRUE(a.final_ba.has_value());
+  EXPECT_TRUE(a.final_ba->ba_done);
+  EXPECT_EQ(static_cast<std::size_t>(a.final_ba->local_keyframes), a.keyframes);
+  EXPECT_GT(a.final_ba->local_points, 100);
+  EXPECT_TRUE(a.map_problems.empty()) << a.map_problems.front();
+  const double before = eval::ComputeAte(gt, plain.trajectory, FromSeconds(0.02)).stats.rmse;
+  const double after = eval::ComputeAte(gt, a.trajectory, FromSeconds(0.02)).stats.rmse;
+  EXPECT_LT(after, 0.01);
+  EXPECT_LE(after, before + 1e-4) << "before " << before;
+  bool moved = false;
+  for (std::size_t i = 0; i < a.trajectory.size() && !moved; ++i) {
+    moved = !a.trajectory[i].T_w_c.translation().isApprox(plain.trajectory[i].T_w_c.translation(), 1e-12);
+  }
+  EXPECT_TRUE(moved) << "the final BA left every pose where it was";
+
+  const Outcome b = RunOn(seq, /*sequential=*/true, {0, 0}, 0, nullptr, with_final_ba);
+  ASSERT_EQ(a.trajectory.size(), b.trajectory.size());
+  for (std::size_t i = 0; i < a.trajectory.size(); ++i) {
+    EXPECT_EQ(a.trajectory[i].T_w_c.translation(), b.trajectory[i].T_w_c.translation()) << i;
+  }
 }
 
 // Lost for 15 frames while the camera moves on: the frames after the gap find the

@@ -1,11 +1,14 @@
-// Local bundle adjustment of the new keyframe's neighbourhood (ORB-SLAM2's
-// LocalBundleAdjustment): the keyframe and its covisibles are free, the other
-// keyframes that see their points are fixed. The problem is copied out under the
-// shared lock, solved without a lock, and written back under the exclusive lock.
+// Bundle adjustment of a set of keyframes: local (ORB-SLAM2's
+// LocalBundleAdjustment: the new keyframe and its covisibles are free, the other
+// keyframes that see their points are fixed) and global (every keyframe free but
+// the first, run once when the sequence ends). The problem is copied out under
+// the shared lock, solved without a lock, and written back under the exclusive lock.
 #include <map>
 #include <mutex>
 #include <shared_mutex>
 
+#include "sgslam/common/stats.h"
+#include "sgslam/features/matcher.h"
 #include "sgslam/mapping/local_mapper.h"
 #include "sgslam/optim/local_ba.h"
 
@@ -13,13 +16,61 @@ namespace sgslam {
 
 bool LocalMapper::LocalBundleAdjustment(const std::shared_ptr<KeyFrame>& kf,
                                         const std::function<bool()>& interrupted, MappingStats& stats) {
+  std::vector<std::shared_ptr<KeyFrame>> free;
+  {
+    std::shared_lock lock(map_.mutex());
+    if (map_.keyframes().size() <= 2) return true;
+    free.push_back(kf);
+    const auto max_free = static_cast<std::size_t>(config_.mapping.ba_max_local_keyframes);
+    for (const auto& k : kf->Covisibles(max_free - 1)) free.push_back(k);
+  }
+  optim::BaOptions options;
+  options.first_iterations = config_.mapping.ba_first_iterations;
+  options.second_iterations = config_.mapping.ba_second_iterations;
+  return AdjustKeyFrames(free, options, interrupted, stats);
+}
+
+MappingStats LocalMapper::GlobalBundleAdjustment() {
+  Stopwatch watch;
+  MappingStats stats;
+  std::vector<std::shared_ptr<KeyFrame>> free;
+  {
+    std::unique_lock lock(map_.mutex());
+    if (map_.keyframes().size() <= 2) return stats;
+    for (const auto& [id, k] : map_.keyframes()) {
+      if (!k->bad()) free.push_back(k);
+    }
+    if (config_.mapping.final_fusion) {
+      std::vector<std::shared_ptr<MapPoint>> all;
+      for (const auto& [id, p] : map_.map_points()) {
+        if (!p->bad()) all.push_back(p);
+      }
+      for (const auto& k : free) {
+        if (!k->bad()) stats.fused += matcher::Fuse(k, all, map_);
+      }
+      for (const auto& k : free) {
+        if (!k->bad()) k->UpdateConnections();
+      }
+    }
+  }
+  optim::BaOptions options;
+  options.first_iterations = config_.mapping.final_ba_iterations;
+  options.second_iterations = config_.mapping.final_ba_iterations;
+  stats.ba_done = true;
+  AdjustKeyFrames(free, options, {}, stats);
+  stats.ba_ms = stats.ms = watch.ElapsedMs();
+  return stats;
+}
+
+bool LocalMapper::AdjustKeyFrames(const std::vector<std::shared_ptr<KeyFrame>>& free,
+                                  const optim::BaOptions& options, const std::function<bool()>& interrupted,
+                                  MappingStats& stats) {
   optim::BaProblem problem;
   std::vector<std::shared_ptr<KeyFrame>> keyframes;
   std::vector<std::shared_ptr<MapPoint>> points;
   {
     std::shared_lock lock(map_.mutex());
-    if (map_.keyframes().size() <= 2) return true;
-    const Camera& cam = *kf->features->camera;
+    const Camera& cam = *free.front()->features->camera;
     problem.intrinsics = {cam.fx(), cam.fy(), cam.cx(), cam.cy(), cam.baseline_fx()};
     std::map<std::uint64_t, int> kf_index;
     const auto add_kf = [&](const std::shared_ptr<KeyFrame>& k, bool fixed) {
@@ -27,9 +78,9 @@ bool LocalMapper::LocalBundleAdjustment(const std::shared_ptr<KeyFrame>& kf,
       keyframes.push_back(k);
       problem.keyframes.push_back({k->id, k->T_c_w(), fixed || k->id == 0});
     };
-    add_kf(kf, false);
-    const auto max_free = static_cast<std::size_t>(config_.mapping.ba_max_local_keyframes);
-    for (const auto& k : kf->Covisibles(max_free - 1)) add_kf(k, false);
+    for (const auto& k : free) {
+      if (!k->bad() && !kf_index.count(k->id)) add_kf(k, false);
+    }
     const std::size_t local_count = keyframes.size();
     std::map<std::uint64_t, int> point_index;
     for (std::size_t k = 0; k < local_count; ++k) {
@@ -58,9 +109,6 @@ bool LocalMapper::LocalBundleAdjustment(const std::shared_ptr<KeyFrame>& kf,
   }
   stats.local_keyframes = static_cast<int>(keyframes.size());
   stats.local_points = static_cast<int>(points.size());
-  optim::BaOptions options;
-  options.first_iterations = config_.mapping.ba_first_iterations;
-  options.second_iterations = config_.mapping.ba_second_iterations;
   const optim::BaResult result = optim::SolveLocalBa(problem, options, interrupted);
 
   std::unique_lock lock(map_.mutex());

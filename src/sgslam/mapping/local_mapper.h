@@ -14,6 +14,7 @@
 
 #include "sgslam/config/config.h"
 #include "sgslam/map/map.h"
+#include "sgslam/optim/local_ba.h"
 
 namespace sgslam {
 
@@ -36,6 +37,11 @@ class LocalMapper {
   // keyframe waits, so fusion and BA are skipped or aborted (ORB-SLAM2).
   MappingStats Process(const std::shared_ptr<KeyFrame>& kf, const std::function<bool()>& interrupted);
 
+  // Bundle adjustment of the whole map, every keyframe free but the first, with
+  // mapping.final_ba_iterations per stage. Run once after the last keyframe was
+  // mapped (nothing else may touch the map then).
+  MappingStats GlobalBundleAdjustment();
+
  private:
   void InsertKeyFrame(const std::shared_ptr<KeyFrame>& kf);
   int CullRecentPoints(const std::shared_ptr<KeyFrame>& kf);
@@ -43,6 +49,8 @@ class LocalMapper {
   int SearchInNeighbors(const std::shared_ptr<KeyFrame>& kf);
   bool LocalBundleAdjustment(const std::shared_ptr<KeyFrame>& kf, const std::function<bool()>& interrupted,
                              MappingStats& stats);
+  bool AdjustKeyFrames(const std::vector<std::shared_ptr<KeyFrame>>& free, const optim::BaOptions& options,
+                       const std::function<bool()>& interrupted, MappingStats& stats);
   int CullKeyFrames(const std::shared_ptr<KeyFrame>& kf);
 
   const Config config_;

@@ -43,6 +43,10 @@ void SlamSystem::Finish() {
   finished_ = true;
   queue_.Shutdown();  // the thread drains what is queued, then exits
   if (mapping_thread_.joinable()) mapping_thread_.join();
+  // With every keyframe mapped, one bundle adjustment of the whole map (what
+  // ORB-SLAM2 runs after a loop closure). The trajectory is exported relative to
+  // the keyframes, so it follows; so do the semantic cloud and objects.
+  if (config_.mapping.final_ba_iterations > 0) final_ba_ = mapper_.GlobalBundleAdjustment();
   if (semantic_) semantic_->Finish();  // after local mapping: nothing feeds it any more
 }
 

@@ -9,6 +9,7 @@
 #include <atomic>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <thread>
 #include <vector>
 
@@ -68,6 +69,8 @@ class SlamSystem {
   // Map consistency problems (empty when consistent); call after Finish().
   std::vector<std::string> CheckMap() const;
   std::vector<MappingStats> mapping_stats() const;
+  // The global bundle adjustment Finish() ran (mapping.final_ba_iterations > 0).
+  const std::optional<MappingStats>& final_ba() const { return final_ba_; }
   DetectionWorkerStats detector_stats() const { return dynamic_.detector_stats(); }
 
   // The semantic map (semantic.enabled), after Finish(): the static dense cloud in
@@ -109,6 +112,7 @@ class SlamSystem {
   std::atomic<bool> finishing_{false};
   mutable std::mutex stats_mutex_;
   std::vector<MappingStats> mapping_stats_;  // guarded by stats_mutex_
+  std::optional<MappingStats> final_ba_;     // set by Finish() when mapping.final_ba_iterations > 0
   std::thread mapping_thread_;
   bool finished_ = false;
 };
