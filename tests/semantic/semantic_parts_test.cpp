@@ -38,6 +38,7 @@ TEST(BackProject, PixelsLandOnTheirDepthAndMaskedOnesAreLeftOut) {
   cv::Mat mask = cv::Mat::zeros(depth.size(), CV_8UC1);
   mask(cv::Rect(200, 150, 100, 180)).setTo(255);
   SemanticConfig c;
+  c.cloud_edge_radius = 0;  // the outline's pixels: next test
   const auto all = BackProject(cv::Mat(), depth, 5000, cv::Mat(), rays, 4, c);
   const auto kept = BackProject(cv::Mat(), depth, 5000, mask, rays, 4, c);
   EXPECT_EQ(all.size(), 160u * 120u);
@@ -45,6 +46,28 @@ TEST(BackProject, PixelsLandOnTheirDepthAndMaskedOnesAreLeftOut) {
   for (const auto& p : kept) EXPECT_NEAR(p.p.z(), 4.0f, 1e-6);
   c.depth_max = 3.0;  // the wall is out of range now
   EXPECT_EQ(BackProject(cv::Mat(), depth, 5000, cv::Mat(), rays, 4, c).size(), 25u * 45u);
+}
+
+// Pixels within cloud_edge_radius of a depth step, on either side, are left out:
+// the ring of Chebyshev radius 2 around the face's outline (2 m against 4 m).
+TEST(BackProject, PixelsAtDepthStepsAreLeftOut) {
+  const Camera cam(PinholeCamera());
+  const PixelRays rays(cam);
+  cv::Mat depth = FaceBeforeWall();
+  SemanticConfig c;
+  ASSERT_EQ(c.cloud_edge_radius, 2);
+  const std::size_t face_ring = 100 * 180 - 96 * 176, wall_ring = 104 * 184 - 100 * 180;
+  EXPECT_EQ(BackProject(cv::Mat(), depth, 5000, cv::Mat(), rays, 1, c).size(), 640u * 480u - face_ring - wall_ring);
+  // A step below the threshold (0.05 m + 0.02 / m * z^2 = 0.37 m at 4 m) is a surface.
+  depth(cv::Rect(200, 150, 100, 180)).setTo(static_cast<int>(3.7 * 5000));
+  EXPECT_EQ(BackProject(cv::Mat(), depth, 5000, cv::Mat(), rays, 1, c).size(), 640u * 480u);
+  // Holes next to a pixel do not make it an edge (there is no depth to compare).
+  depth = FaceBeforeWall();
+  depth(cv::Rect(200, 150, 100, 180)).setTo(0);
+  EXPECT_EQ(BackProject(cv::Mat(), depth, 5000, cv::Mat(), rays, 1, c).size(), 640u * 480u - 100u * 180u);
+  c.cloud_edge_radius = 0;
+  depth = FaceBeforeWall();
+  EXPECT_EQ(BackProject(cv::Mat(), depth, 5000, cv::Mat(), rays, 1, c).size(), 640u * 480u);
 }
 
 TEST(DynamicPixelMask, PersonBoxesAndRejectedKeypointsButNotChairs) {

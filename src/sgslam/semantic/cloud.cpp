@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <unordered_map>
 
 #include "sgslam/camera/camera.h"
@@ -64,6 +65,31 @@ PixelRays::PixelRays(const Camera& camera) : rays_(camera.height(), camera.width
   }
 }
 
+namespace {
+
+// A pixel within `radius` of a depth step larger than `jump` (either side): the
+// eight pixels at that distance, holes ignored. Depth at an outline mixes the two
+// surfaces (flying pixels), and the outline of a mover is where its mask and its
+// depth disagree by a pixel or two: on dyn_dev 44 % of the cloud points left on
+// moving pixels were within 4 px of a mover's outline.
+bool OnDepthEdge(const cv::Mat& depth_raw, int u, int v, int radius, std::uint16_t d, double inv_factor,
+                 double jump) {
+  const int max_jump = static_cast<int>(jump / inv_factor);
+  for (int dv = -radius; dv <= radius; dv += radius) {
+    const int y = v + dv;
+    if (y < 0 || y >= depth_raw.rows) continue;
+    const std::uint16_t* row = depth_raw.ptr<std::uint16_t>(y);
+    for (int du = -radius; du <= radius; du += radius) {
+      const int x = u + du;
+      if ((du == 0 && dv == 0) || x < 0 || x >= depth_raw.cols || row[x] == 0) continue;
+      if (std::abs(static_cast<int>(row[x]) - static_cast<int>(d)) > max_jump) return true;
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
 std::vector<ColoredPoint> BackProject(const cv::Mat& bgr, const cv::Mat& depth_raw, double depth_factor,
                                       const cv::Mat& mask, const PixelRays& rays, int stride,
                                       const SemanticConfig& config) {
@@ -73,6 +99,7 @@ std::vector<ColoredPoint> BackProject(const cv::Mat& bgr, const cv::Mat& depth_r
   const int channels = colour ? bgr.channels() : 0;
   const double inv_factor = 1.0 / depth_factor;
   out.reserve(static_cast<std::size_t>(depth_raw.total() / static_cast<std::size_t>(stride * stride)));
+  const int edge = config.cloud_edge_radius;
   for (int v = 0; v < depth_raw.rows; v += stride) {
     const std::uint16_t* d = depth_raw.ptr<std::uint16_t>(v);
     const std::uint8_t* m = mask.empty() ? nullptr : mask.ptr<std::uint8_t>(v);
@@ -80,6 +107,10 @@ std::vector<ColoredPoint> BackProject(const cv::Mat& bgr, const cv::Mat& depth_r
       if (m != nullptr && m[u] != 0) continue;
       const double z = d[u] * inv_factor;
       if (d[u] == 0 || z < config.depth_min || z > config.depth_max) continue;
+      if (edge > 0 && OnDepthEdge(depth_raw, u, v, edge, d[u], inv_factor,
+                                  config.cloud_edge_jump + config.cloud_edge_jump_quadratic * z * z)) {
+        continue;
+      }
       const cv::Vec2f& r = rays.at(u, v);
       ColoredPoint p;
       p.p = Eigen::Vector3f(static_cast<float>(r[0] * z), static_cast<float>(r[1] * z), static_cast<float>(z));

@@ -8,6 +8,9 @@ void SemanticConfig::Validate(ConfigChecker& c) const {
   c.Check(depth_max > depth_min && depth_max <= 100.0, "depth_max", depth_max, "must be > depth_min and <= 100");
   c.InRange("cloud_stride", cloud_stride, 1, 64);
   c.InRange("cloud_voxel", cloud_voxel, 0.001, 1.0);
+  c.InRange("cloud_edge_radius", cloud_edge_radius, 0, 50);
+  c.InRange("cloud_edge_jump", cloud_edge_jump, 0.0, 10.0);
+  c.InRange("cloud_edge_jump_quadratic", cloud_edge_jump_quadratic, 0.0, 10.0);
   c.InRange("box_margin", box_margin, 0.0, 1.0);
   c.InRange("box_window", box_window, 0, 30);
   c.InRange("box_window_growth", box_window_growth, 0.0, 100.0);
