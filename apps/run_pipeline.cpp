@@ -292,6 +292,8 @@ RunSummary RunSequence(const RunOptions& o) {
                             {"median_ba_keyframes", mapping_median(&MappingStats::local_keyframes)},
                             {"median_ba_points", mapping_median(&MappingStats::local_points)}};
   if (const auto& gba = system.final_ba()) {
+    spdlog::info("final bundle adjustment: {} keyframes, {} points, {:.2f} s", gba->local_keyframes, gba->local_points,
+                 gba->ms / 1000.0);
     stats["final_ba"] = {{"ms", gba->ms}, {"keyframes", gba->local_keyframes}, {"points", gba->local_points}};
   }
   if (const auto gt_path = dataset.groundtruth_path(); gt_path && trajectory.size() >= 3) {
