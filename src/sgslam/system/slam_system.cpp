@@ -36,9 +36,13 @@ SlamSystem::SlamSystem(const Config& config, bool sequential, std::unique_ptr<De
   if (!sequential_) mapping_thread_ = std::thread([this] { MappingLoop(); });
 }
 
-SlamSystem::~SlamSystem() { Finish(); }
+// Destroyed without Finish() (an error unwinding the run): stop the threads, but
+// do not spend seconds refining a map nobody will export.
+SlamSystem::~SlamSystem() { Stop(/*final_ba=*/false); }
 
-void SlamSystem::Finish() {
+void SlamSystem::Finish() { Stop(/*final_ba=*/true); }
+
+void SlamSystem::Stop(bool final_ba) {
   if (finished_) return;
   finished_ = true;
   queue_.Shutdown();  // the thread drains what is queued, then exits
@@ -46,7 +50,7 @@ void SlamSystem::Finish() {
   // With every keyframe mapped, one bundle adjustment of the whole map (what
   // ORB-SLAM2 runs after a loop closure). The trajectory is exported relative to
   // the keyframes, so it follows; so do the semantic cloud and objects.
-  if (config_.mapping.final_ba_iterations > 0) final_ba_ = mapper_.GlobalBundleAdjustment();
+  if (final_ba && config_.mapping.final_ba_iterations > 0) final_ba_ = mapper_.GlobalBundleAdjustment();
   if (semantic_) semantic_->Finish();  // after local mapping: nothing feeds it any more
 }
 

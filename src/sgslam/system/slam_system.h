@@ -56,7 +56,9 @@ class SlamSystem {
   SlamSystem& operator=(const SlamSystem&) = delete;
 
   FrameReport Process(const RgbdImages& images);
-  // Lets local mapping finish the queued keyframes and stops its thread.
+  // Lets local mapping finish the queued keyframes, stops its thread and runs the
+  // final bundle adjustment (mapping.final_ba_iterations). The destructor stops
+  // without that adjustment.
   void Finish();
 
   // Every tracked frame, T_w_c, placed relative to its reference keyframe's final pose.
@@ -84,6 +86,7 @@ class SlamSystem {
 
  private:
   void MappingLoop();
+  void Stop(bool final_ba);
   void ToSemantic(SemanticInput item);
 
   const Config config_;
