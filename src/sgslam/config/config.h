@@ -166,11 +166,10 @@ struct MappingConfig {
   // worse, 0.65 s at the end; 20 iterations gave the same as 10. dyn_dev sg:
   // median 0.1274 -> 0.1294 m (within noise). Only trajectory.txt and the maps
   // see it; trajectory_online.txt is what tracking output at the time.
+  // Fusing every map point into every keyframe before it (a loop closure's fusion
+  // without the loop) gave 0.0255 / 0.0233 m against 0.0260 / 0.0230 at budgets
+  // 900 / 950: not done.
   int final_ba_iterations = 10;
-  // Before that BA, every map point projected into every keyframe and fused (a
-  // loop closure's fusion without the loop): fr1_rpy 0.0255 / 0.0233 m against
-  // 0.0260 / 0.0230 at budgets 900 / 950, so off.
-  bool final_fusion = false;
 
   template <class V>
   void Visit(V&& v) {
@@ -184,7 +183,6 @@ struct MappingConfig {
     v("busy_frames", busy_frames, "frames after a keyframe that mapping counts as busy; later keyframes interrupt its BA");
     v("nice", nice, "Linux nice value of the local mapping thread, 0..19");
     v("final_ba_iterations", final_ba_iterations, "global BA iterations per stage when the sequence ends; 0: off");
-    v("final_fusion", final_fusion, "fuse every map point into every keyframe before the final BA");
   }
   void Validate(ConfigChecker& c) const;
 };

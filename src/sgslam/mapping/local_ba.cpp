@@ -8,7 +8,6 @@
 #include <shared_mutex>
 
 #include "sgslam/common/stats.h"
-#include "sgslam/features/matcher.h"
 #include "sgslam/mapping/local_mapper.h"
 #include "sgslam/optim/local_ba.h"
 
@@ -35,22 +34,10 @@ MappingStats LocalMapper::GlobalBundleAdjustment() {
   MappingStats stats;
   std::vector<std::shared_ptr<KeyFrame>> free;
   {
-    std::unique_lock lock(map_.mutex());
+    std::shared_lock lock(map_.mutex());
     if (map_.keyframes().size() <= 2) return stats;
     for (const auto& [id, k] : map_.keyframes()) {
       if (!k->bad()) free.push_back(k);
-    }
-    if (config_.mapping.final_fusion) {
-      std::vector<std::shared_ptr<MapPoint>> all;
-      for (const auto& [id, p] : map_.map_points()) {
-        if (!p->bad()) all.push_back(p);
-      }
-      for (const auto& k : free) {
-        if (!k->bad()) stats.fused += matcher::Fuse(k, all, map_);
-      }
-      for (const auto& k : free) {
-        if (!k->bad()) k->UpdateConnections();
-      }
     }
   }
   optim::BaOptions options;
@@ -65,6 +52,7 @@ MappingStats LocalMapper::GlobalBundleAdjustment() {
 bool LocalMapper::AdjustKeyFrames(const std::vector<std::shared_ptr<KeyFrame>>& free,
                                   const optim::BaOptions& options, const std::function<bool()>& interrupted,
                                   MappingStats& stats) {
+  if (free.empty()) return true;
   optim::BaProblem problem;
   std::vector<std::shared_ptr<KeyFrame>> keyframes;
   std::vector<std::shared_ptr<MapPoint>> points;
