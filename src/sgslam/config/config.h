@@ -99,7 +99,7 @@ struct OrbConfig {
 
 // Tracking (ORB-SLAM2's RGB-D settings unless a comment says otherwise).
 struct TrackingConfig {
-  int min_init_points = 500;           // keypoints with depth needed to start the map
+  int min_init_points = 500;           // keypoints with depth needed to start the map (at most half of orb.features)
   double motion_search_radius = 15.0;  // px at level 0, constant-velocity projection search
   double local_search_radius = 5.0;    // factor, local-map projection search (ORB-SLAM2: 3; 5 measured better on fr1_rpy, whose rolling shutter shifts rows by pixels under fast rotation)
   double descriptor_ratio = 0.7;       // best/second-best ratio, reference keyframe matching

@@ -5,6 +5,8 @@
 #include <numeric>
 #include <shared_mutex>
 
+#include <spdlog/spdlog.h>
+
 #include "sgslam/dynamic/motion.h"
 #include "sgslam/features/matcher.h"
 #include "sgslam/optim/pose_optimizer.h"
@@ -87,7 +89,21 @@ TrackResult Tracker::Track(Frame& frame, bool mapping_idle, std::size_t mapping_
 bool Tracker::Initialize(Frame& frame, TrackResult& result) {
   const auto& depth = frame.features->depth;
   const auto with_depth = std::count_if(depth.begin(), depth.end(), [](float d) { return d > 0; });
-  if (with_depth < config_.tracking.min_init_points) return false;
+  // At most half the ORB budget: with orb.features 500 a frame has ~450 keypoints
+  // with depth and would never reach 500 (ORB-SLAM2 asks for 500 keypoints, with
+  // depth or not).
+  const int needed = std::min(config_.tracking.min_init_points, std::max(1, config_.orb.features / 2));
+  if (with_depth < needed) {
+    best_init_depth_points_ = std::max<int>(best_init_depth_points_, static_cast<int>(with_depth));
+    if (++init_failures_ == kInitWarnFrames) {
+      spdlog::warn(
+          "tracking has not started after {} frames: the best had {} keypoints with depth, {} are needed "
+          "(tracking.min_init_points, at most half of orb.features); is the depth image empty, or out of "
+          "range for camera.depth_factor?",
+          kInitWarnFrames, best_init_depth_points_, needed);
+    }
+    return false;
+  }
   // The map starts from the keypoints that dynamic rejection kept. When it kept
   // few of them (a first frame whose false-positive boxes cover most of the image,
   // with no flow yet to judge by), a map of a hundred points can lose the next
@@ -98,7 +114,7 @@ bool Tracker::Initialize(Frame& frame, TrackResult& result) {
   // false "person" box and starts well from them.
   int usable = 0;
   for (std::size_t i = 0; i < depth.size(); ++i) usable += depth[i] > 0 && frame.usable(i);
-  if (2 * usable < config_.tracking.min_init_points && init_deferred_ < kMaxInitDeferrals) {
+  if (2 * usable < needed && init_deferred_ < kMaxInitDeferrals) {
     ++init_deferred_;
     return false;
   }

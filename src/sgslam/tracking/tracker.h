@@ -74,6 +74,9 @@ class Tracker {
   // Frames the initialisation waited for more kept keypoints with depth (Initialize).
   static constexpr int kMaxInitDeferrals = 5;
   int init_deferred_ = 0;
+  static constexpr int kInitWarnFrames = 30;  // frames without a start before a warning
+  int init_failures_ = 0;
+  int best_init_depth_points_ = 0;
 };
 
 }  // namespace sgslam
