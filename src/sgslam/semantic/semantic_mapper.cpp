@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <shared_mutex>
+#include <array>
+#include <unordered_map>
 #include <unordered_set>
 
 #include "sgslam/camera/camera.h"
@@ -220,7 +222,7 @@ void SemanticMapper::FilterAndRebuild() {
   if (filtered_) return;
   filtered_ = true;
   const SemanticConfig& c = config_.semantic;
-  if (!c.consistency_filter) {
+  if (!c.consistency_filter && c.min_view_support <= 1) {
     octomap_.Finalize();
     return;
   }
@@ -230,7 +232,7 @@ void SemanticMapper::FilterAndRebuild() {
     T_w_c[k] = T_c_w[k].Inverse();
   }
   const double pool = c.consistency_pool;
-  for (std::size_t i = 0; i < clouds_.size(); ++i) {
+  for (std::size_t i = 0; i < clouds_.size() && c.consistency_filter; ++i) {
     std::vector<ColoredPoint> kept;
     kept.reserve(clouds_[i].points_c.size());
     for (const ColoredPoint& p : clouds_[i].points_c) {
@@ -256,11 +258,61 @@ void SemanticMapper::FilterAndRebuild() {
     }
     clouds_[i].points_c.swap(kept);
   }
+  if (c.min_view_support > 1) DropPointsSeenOnce(T_w_c);
   // The live OctoMap saw the moving points too, with the poses of the time: build
-  // it again from the consistent points and the final poses.
+  // it again from the points that passed and the final poses.
   octomap_.Clear();
   for (std::size_t i = 0; i < clouds_.size(); ++i) octomap_.Insert(clouds_[i].points_c, ray_points_[i], T_w_c[i]);
   octomap_.Finalize();
+}
+
+void SemanticMapper::DropPointsSeenOnce(const std::vector<SE3>& T_w_c) {
+  // Which keyframes put a point into each OctoMap-sized voxel.
+  const double res = config_.semantic.octomap_resolution;
+  const auto cell = [res](double x) { return static_cast<std::int64_t>(std::floor(x / res)) + (1 << 20); };
+  const auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) { return (x << 42) | (y << 21) | z; };
+  std::unordered_map<std::int64_t, std::vector<std::uint32_t>> views;
+  std::vector<std::vector<std::array<std::int64_t, 3>>> cells(clouds_.size());
+  for (std::size_t i = 0; i < clouds_.size(); ++i) {
+    cells[i].reserve(clouds_[i].points_c.size());
+    for (const ColoredPoint& p : clouds_[i].points_c) {
+      const Eigen::Vector3d x = T_w_c[i] * p.p.cast<double>();
+      const std::array<std::int64_t, 3> c3{cell(x.x()), cell(x.y()), cell(x.z())};
+      cells[i].push_back(c3);
+      auto& v = views[key(c3[0], c3[1], c3[2])];
+      if (v.empty() || v.back() != i) v.push_back(static_cast<std::uint32_t>(i));  // i grows: no duplicates
+    }
+  }
+  // A point stays when enough keyframes put points into its voxel or the 26 around
+  // it (pose and depth noise spread one surface over neighbouring voxels).
+  const auto need = static_cast<std::size_t>(config_.semantic.min_view_support);
+  std::vector<std::uint32_t> seen;
+  for (std::size_t i = 0; i < clouds_.size(); ++i) {
+    std::vector<ColoredPoint> kept;
+    kept.reserve(clouds_[i].points_c.size());
+    for (std::size_t k = 0; k < clouds_[i].points_c.size(); ++k) {
+      const auto& c3 = cells[i][k];
+      seen.clear();
+      for (int dx = -1; dx <= 1 && seen.size() < need; ++dx) {
+        for (int dy = -1; dy <= 1 && seen.size() < need; ++dy) {
+          for (int dz = -1; dz <= 1 && seen.size() < need; ++dz) {
+            const auto it = views.find(key(c3[0] + dx, c3[1] + dy, c3[2] + dz));
+            if (it == views.end()) continue;
+            for (std::uint32_t j : it->second) {
+              if (std::find(seen.begin(), seen.end(), j) == seen.end()) seen.push_back(j);
+              if (seen.size() >= need) break;
+            }
+          }
+        }
+      }
+      if (seen.size() >= need) {
+        kept.push_back(clouds_[i].points_c[k]);
+      } else {
+        ++unsupported_;
+      }
+    }
+    clouds_[i].points_c.swap(kept);
+  }
 }
 
 void SemanticMapper::ExportCloud(std::vector<Eigen::Vector3d>& points, std::vector<Rgb>& colours) {

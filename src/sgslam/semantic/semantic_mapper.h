@@ -72,6 +72,7 @@ class SemanticMapper {
   // After Finish(), under the map's shared lock.
   void ExportCloud(std::vector<Eigen::Vector3d>& points, std::vector<Rgb>& colours);
   std::size_t inconsistent_points() const { return inconsistent_; }
+  std::size_t unsupported_points() const { return unsupported_; }
   // T_out_w: the frame to express the objects in (boxes are axis-aligned in it).
   std::vector<ObjectEstimate> ExportObjects(const SE3& T_out_w = SE3()) const;
   OctoMapBuilder& octomap() { return octomap_; }
@@ -116,11 +117,15 @@ class SemanticMapper {
     std::vector<ColoredPoint> points_c;
     cv::Mat depth_pooled;  // m (CV_32F), min over consistency_pool^2 pixels of valid depth; 0 = none
   };
-  // Drops the points other keyframes see through (consistency_filter) and rebuilds
+  // Drops the points other keyframes see through (consistency_filter) and those
+  // fewer than min_view_support keyframes saw (DropPointsSeenOnce), and rebuilds
   // the OctoMap from the rest with the current poses; once, on first export.
   void FilterAndRebuild();
   bool filtered_ = false;
   std::size_t inconsistent_ = 0;
+  std::size_t unsupported_ = 0;
+  // Drops the points whose voxel neighbourhood fewer than min_view_support keyframes saw.
+  void DropPointsSeenOnce(const std::vector<SE3>& T_w_c);
   std::vector<std::vector<ColoredPoint>> ray_points_;  // per cloud: the free-space ray ends, for the rebuild
   // Owned by the worker until Finish() (then by the exporting caller).
   std::vector<KeyFrameCloud> clouds_;
