@@ -69,10 +69,8 @@ std::vector<DepthResidual> CheckDepth(const std::vector<cv::Point2f>& prev, cons
     const Eigen::Vector2d projected(K.fx * X_cur.x() / X_cur.z() + K.cx, K.fy * X_cur.y() / X_cur.z() + K.cy);
     r.reprojection_error = (projected - Eigen::Vector2d(cur_un[i].x, cur_un[i].y)).norm();
     const double z_tolerance = config.depth_tolerance + config.depth_tolerance_quadratic * X_cur.z() * X_cur.z();
-    r.depth_ratio = r.depth_error / z_tolerance;
-    r.reprojection_ratio =
-        config.reprojection_tolerance > 0 ? r.reprojection_error / config.reprojection_tolerance : 0.0;
-    r.moved = r.depth_ratio > 1.0 || r.reprojection_ratio > 1.0;
+    r.moved = r.depth_error > z_tolerance ||
+              (config.reprojection_tolerance > 0 && r.reprojection_error > config.reprojection_tolerance);
   }
   return out;
 }

@@ -47,8 +47,6 @@ struct DepthResidual {
   bool moved = false;             // beyond the tolerances
   double depth_error = 0;         // m, |z_pred - z_meas|
   double reprojection_error = 0;  // px
-  double depth_ratio = 0;         // depth_error over the depth tolerance at its range
-  double reprojection_ratio = 0;  // reprojection_error over reprojection_tolerance (0 when that is off)
 };
 
 // One result per pair; pairs with use[i] false are skipped (valid false).

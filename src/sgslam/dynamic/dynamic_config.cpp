@@ -29,7 +29,6 @@ void DynamicConfig::Validate(ConfigChecker& c) const {
   c.InRange("motion_iterations", motion_iterations, 10, 100000);
   c.InRange("motion_min_inliers", motion_min_inliers, 6, 100000);
   c.InRange("depth_max_share", depth_max_share, 0.0, 1.0);
-  c.InRange("depth_adaptive", depth_adaptive, 0.0, 100.0);
   c.InRange("depth_tolerance", depth_tolerance, 0.0, 10.0);
   c.InRange("depth_tolerance_quadratic", depth_tolerance_quadratic, 0.0, 1.0);
   c.InRange("reprojection_tolerance", reprojection_tolerance, 0.0, 1000.0);

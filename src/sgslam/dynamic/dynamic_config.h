@@ -77,7 +77,6 @@ struct DynamicConfig {
   int motion_iterations = 100;               // PnP RANSAC iterations at most
   int motion_min_inliers = 30;               // fewer inliers: no motion, the RGB-D check is skipped
   double depth_max_share = 0.5;              // the check flags more of the checked pairs: distrusted, ignored
-  double depth_adaptive = 0.0;               // tolerances at least this times the frame's median residual; 0: fixed
   double depth_tolerance = 0.03;             // m, depth error allowed at any range
   double depth_tolerance_quadratic = 0.006;  // 1/m, plus this times depth^2 (Kinect-like noise)
   double reprojection_tolerance = 3.0;       // px, reprojection error allowed; 0: depth only
@@ -139,7 +138,6 @@ struct DynamicConfig {
     v("motion_min_inliers", motion_min_inliers, "PnP inliers needed for the RGB-D check");
     v("depth_max_share", depth_max_share, "share of checked pairs above which the RGB-D check is ignored");
     v("depth_tolerance", depth_tolerance, "m, depth error allowed");
-    v("depth_adaptive", depth_adaptive, "tolerances at least this times the frame's median residual; 0: fixed");
     v("depth_tolerance_quadratic", depth_tolerance_quadratic, "1/m, extra tolerance times depth^2");
     v("reprojection_tolerance", reprojection_tolerance, "px, reprojection error allowed; 0: off");
     v("depth_min", depth_min, "m, valid depth range");

@@ -195,23 +195,10 @@ RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>
     if (in != nullptr) {
       const std::vector<DepthResidual> residuals =
           CheckDepth(flow.prev, pairs.cur, pairs.prev_un, pairs.cur_un, valid, *in, config);
-      // The tolerances grow with the frame's own residuals: a blurred frame or a
-      // rough motion spreads the residuals of the static points (most of the
-      // checked pairs) beyond the fixed tolerances.
-      double depth_scale = 1.0, reprojection_scale = 1.0;
-      if (config.depth_adaptive > 0) {
-        std::vector<double> dr, rr;
-        for (const DepthResidual& x : residuals) {
-          if (x.valid) dr.push_back(x.depth_ratio), rr.push_back(x.reprojection_ratio);
-        }
-        depth_scale = std::max(1.0, config.depth_adaptive * Median(dr));
-        reprojection_scale = std::max(1.0, config.depth_adaptive * Median(rr));
-      }
       int checked = 0, flagged = 0;
       for (size_t i = 0; i < keys.size(); ++i) {
-        const DepthResidual& x = residuals[i];
-        moved[i] = x.valid && (x.depth_ratio > depth_scale || x.reprojection_ratio > reprojection_scale);
-        checked += x.valid;
+        moved[i] = residuals[i].valid && residuals[i].moved;
+        checked += residuals[i].valid;
         flagged += moved[i];
       }
       // The scene is assumed mostly static (as RANSAC does): a check that flags
