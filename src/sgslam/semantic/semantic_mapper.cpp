@@ -272,6 +272,9 @@ void SemanticMapper::DropPointsSeenOnce(const std::vector<SE3>& T_w_c) {
   const auto cell = [res](double x) { return static_cast<std::int64_t>(std::floor(x / res)) + (1 << 20); };
   const auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) { return (x << 42) | (y << 21) | z; };
   std::unordered_map<std::int64_t, std::vector<std::uint32_t>> views;
+  std::size_t total = 0;
+  for (const KeyFrameCloud& k : clouds_) total += k.points_c.size();
+  views.reserve(total);
   std::vector<std::vector<std::array<std::int64_t, 3>>> cells(clouds_.size());
   for (std::size_t i = 0; i < clouds_.size(); ++i) {
     cells[i].reserve(clouds_[i].points_c.size());
@@ -293,17 +296,17 @@ void SemanticMapper::DropPointsSeenOnce(const std::vector<SE3>& T_w_c) {
     for (std::size_t k = 0; k < clouds_[i].points_c.size(); ++k) {
       const auto& c3 = cells[i][k];
       seen.clear();
-      for (int dx = -1; dx <= 1 && seen.size() < need; ++dx) {
-        for (int dy = -1; dy <= 1 && seen.size() < need; ++dy) {
-          for (int dz = -1; dz <= 1 && seen.size() < need; ++dz) {
-            const auto it = views.find(key(c3[0] + dx, c3[1] + dy, c3[2] + dz));
-            if (it == views.end()) continue;
-            for (std::uint32_t j : it->second) {
-              if (std::find(seen.begin(), seen.end(), j) == seen.end()) seen.push_back(j);
-              if (seen.size() >= need) break;
-            }
-          }
+      const auto count = [&](int dx, int dy, int dz) {
+        const auto it = views.find(key(c3[0] + dx, c3[1] + dy, c3[2] + dz));
+        if (it == views.end()) return;
+        for (std::uint32_t j : it->second) {
+          if (std::find(seen.begin(), seen.end(), j) == seen.end()) seen.push_back(j);
+          if (seen.size() >= need) return;
         }
+      };
+      count(0, 0, 0);  // on a static surface the point's own voxel is usually enough
+      for (int n = 0; n < 27 && seen.size() < need; ++n) {
+        if (n != 13) count(n / 9 - 1, (n / 3) % 3 - 1, n % 3 - 1);
       }
       if (seen.size() >= need) {
         kept.push_back(clouds_[i].points_c[k]);
