@@ -292,7 +292,7 @@ RunSummary RunSequence(const RunOptions& o) {
                             {"median_cull_ms", mapping_median(&MappingStats::cull_ms)},
                             {"median_ba_keyframes", mapping_median(&MappingStats::local_keyframes)},
                             {"median_ba_points", mapping_median(&MappingStats::local_points)}};
-  if (const auto& gba = system.final_ba()) {
+  if (const auto& gba = system.final_ba(); gba && gba->local_keyframes > 0) {
     spdlog::info("final bundle adjustment: {} keyframes, {} points, {:.2f} s", gba->local_keyframes, gba->local_points,
                  gba->ms / 1000.0);
     stats["final_ba"] = {{"ms", gba->ms}, {"keyframes", gba->local_keyframes}, {"points", gba->local_points}};
@@ -310,6 +310,9 @@ RunSummary RunSequence(const RunOptions& o) {
   }
   if (!semantic_json.is_null()) stats["semantic"] = semantic_json;
   if (!failure.empty()) stats["error"] = failure;
+  if (s.frames > 0 && s.tracked == 0) {
+    spdlog::warn("no frame was tracked: the map never started, so trajectory.txt and the maps are empty");
+  }
   WriteFileAtomically(s.out / "stats.json", stats.dump(2) + "\n");
   if (!failure.empty()) {
     throw InputError(failure + " (outputs of the " + std::to_string(s.frames) + " frames before it are in " +

@@ -40,6 +40,8 @@ TEST(RunCommand, GoodDatasetWritesConfigFramesAndStats) {
   ASSERT_EQ(r.exit_code, 0) << r.output;
   // Flat images: nothing to track, and the summary says so instead of inventing poses.
   EXPECT_NE(r.output.find("4 frames: 0 tracked"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("no frame was tracked"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("final bundle adjustment"), std::string::npos) << r.output;
   for (const char* f : {"trajectory.txt", "keyframes.txt", "map_points.ply", "config_used.yaml"}) {
     EXPECT_TRUE(fs::exists(tmp / "out" / f)) << f;
   }
