@@ -6,20 +6,9 @@
 #include <unordered_map>
 
 #include "sgslam/camera/camera.h"
+#include "sgslam/semantic/voxel_cell.h"
 
 namespace sgslam {
-
-namespace {
-
-// 21 bits per axis: +-1e6 voxels, ample for rooms at centimetre voxels.
-std::uint64_t VoxelKey(const Eigen::Vector3f& p, double inv_voxel) {
-  const auto axis = [&](float x) {
-    return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(x * inv_voxel)) + (1 << 20)) & 0x1FFFFF;
-  };
-  return axis(p.x()) | (axis(p.y()) << 21) | (axis(p.z()) << 42);
-}
-
-}  // namespace
 
 std::vector<ColoredPoint> VoxelDownsample(const std::vector<ColoredPoint>& in, double voxel) {
   struct Sum {
@@ -33,7 +22,7 @@ std::vector<ColoredPoint> VoxelDownsample(const std::vector<ColoredPoint>& in, d
   std::vector<Sum> sums;
   for (const ColoredPoint& c : in) {
     if (!c.p.allFinite()) continue;
-    const auto [it, fresh] = index.emplace(VoxelKey(c.p, inv), sums.size());
+    const auto [it, fresh] = index.emplace(VoxelCell::Of(c.p.cast<double>(), inv).Key(), sums.size());
     if (fresh) sums.emplace_back();
     Sum& s = sums[it->second];
     s.p += c.p.cast<double>();

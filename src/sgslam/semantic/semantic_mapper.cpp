@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <shared_mutex>
-#include <array>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -15,6 +14,7 @@
 #include "sgslam/map/keyframe.h"
 #include "sgslam/map/map.h"
 #include "sgslam/semantic/dynamic_mask.h"
+#include "sgslam/semantic/voxel_cell.h"
 
 namespace sgslam {
 
@@ -268,21 +268,17 @@ void SemanticMapper::FilterAndRebuild() {
 
 void SemanticMapper::DropPointsSeenOnce(const std::vector<SE3>& T_w_c) {
   // Which keyframes put a point into each OctoMap-sized voxel.
-  const double res = config_.semantic.octomap_resolution;
-  const auto cell = [res](double x) { return static_cast<std::int64_t>(std::floor(x / res)) + (1 << 20); };
-  const auto key = [](std::int64_t x, std::int64_t y, std::int64_t z) { return (x << 42) | (y << 21) | z; };
-  std::unordered_map<std::int64_t, std::vector<std::uint32_t>> views;
+  const double inv = 1.0 / config_.semantic.octomap_resolution;
+  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> views;
   std::size_t total = 0;
   for (const KeyFrameCloud& k : clouds_) total += k.points_c.size();
   views.reserve(total);
-  std::vector<std::vector<std::array<std::int64_t, 3>>> cells(clouds_.size());
+  std::vector<std::vector<VoxelCell>> cells(clouds_.size());
   for (std::size_t i = 0; i < clouds_.size(); ++i) {
     cells[i].reserve(clouds_[i].points_c.size());
     for (const ColoredPoint& p : clouds_[i].points_c) {
-      const Eigen::Vector3d x = T_w_c[i] * p.p.cast<double>();
-      const std::array<std::int64_t, 3> c3{cell(x.x()), cell(x.y()), cell(x.z())};
-      cells[i].push_back(c3);
-      auto& v = views[key(c3[0], c3[1], c3[2])];
+      cells[i].push_back(VoxelCell::Of(T_w_c[i] * p.p.cast<double>(), inv));
+      auto& v = views[cells[i].back().Key()];
       if (v.empty() || v.back() != i) v.push_back(static_cast<std::uint32_t>(i));  // i grows: no duplicates
     }
   }
@@ -294,10 +290,10 @@ void SemanticMapper::DropPointsSeenOnce(const std::vector<SE3>& T_w_c) {
     std::vector<ColoredPoint> kept;
     kept.reserve(clouds_[i].points_c.size());
     for (std::size_t k = 0; k < clouds_[i].points_c.size(); ++k) {
-      const auto& c3 = cells[i][k];
+      const VoxelCell& cell = cells[i][k];
       seen.clear();
       const auto count = [&](int dx, int dy, int dz) {
-        const auto it = views.find(key(c3[0] + dx, c3[1] + dy, c3[2] + dz));
+        const auto it = views.find(cell.Shifted(dx, dy, dz).Key());
         if (it == views.end()) return;
         for (std::uint32_t j : it->second) {
           if (std::find(seen.begin(), seen.end(), j) == seen.end()) seen.push_back(j);
@@ -367,12 +363,8 @@ SemanticMapper::OctoMapTruth SemanticMapper::ScoreOctoMap(const std::function<cv
                                                           const std::function<cv::Mat(Timestamp)>& depth_of,
                                                           int stride) const {
   OctoMapTruth t;
-  const double res = octomap_.resolution();
-  const auto key = [res](const Eigen::Vector3d& p) {
-    const auto c = [res](double x) { return static_cast<std::int64_t>(std::floor(x / res)) + (1 << 20); };
-    return (c(p.x()) << 42) | (c(p.y()) << 21) | c(p.z());
-  };
-  std::unordered_set<std::int64_t> moving, static_cells;
+  const double inv = 1.0 / octomap_.resolution();
+  std::unordered_set<std::uint64_t> moving, static_cells;
   const SemanticConfig& c = config_.semantic;
   for (const KeyFrameCloud& k : clouds_) {
     const cv::Mat mask = mask_of(k.keyframe->t), depth = depth_of(k.keyframe->t);
@@ -385,27 +377,24 @@ SemanticMapper::OctoMapTruth SemanticMapper::ScoreOctoMap(const std::function<cv
         if (z < c.depth_min || z > c.depth_max) continue;
         const cv::Vec2f& r = rays_.at(u, v);
         const Eigen::Vector3d p = T_w_c * Eigen::Vector3d(r[0] * z, r[1] * z, z);
-        (mask.at<std::uint8_t>(v, u) != 0 ? moving : static_cells).insert(key(p));
+        (mask.at<std::uint8_t>(v, u) != 0 ? moving : static_cells).insert(VoxelCell::Of(p, inv).Key());
       }
     }
   }
-  const auto centre = [res](std::int64_t m, int shift) {
-    return (static_cast<double>((m >> shift) & ((1 << 21) - 1)) - (1 << 20) + 0.5) * res;
-  };
-  for (std::int64_t m : moving) {
+  for (std::uint64_t m : moving) {
     // A path cell has no static cell among itself and its 26 neighbours.
-    const Eigen::Vector3d x(centre(m, 42), centre(m, 21), centre(m, 0));
+    const VoxelCell cell = VoxelCell::FromKey(m);
     bool near_static = false;
     for (int dx = -1; dx <= 1 && !near_static; ++dx) {
       for (int dy = -1; dy <= 1 && !near_static; ++dy) {
         for (int dz = -1; dz <= 1 && !near_static; ++dz) {
-          near_static = static_cells.count(key(x + res * Eigen::Vector3d(dx, dy, dz))) != 0;
+          near_static = static_cells.count(cell.Shifted(dx, dy, dz).Key()) != 0;
         }
       }
     }
     if (near_static) continue;
     ++t.path_cells;
-    t.occupied += octomap_.IsOccupied(x) ? 1 : 0;
+    t.occupied += octomap_.IsOccupied(cell.Centre(octomap_.resolution())) ? 1 : 0;
   }
   return t;
 }
