@@ -231,8 +231,19 @@ void SemanticMapper::FilterAndRebuild() {
     T_c_w[k] = clouds_[k].keyframe->PlacedT_c_w();
     T_w_c[k] = T_c_w[k].Inverse();
   }
+  if (c.consistency_filter) DropPointsSeenThrough(T_c_w, T_w_c);
+  if (c.min_view_support > 1) DropPointsSeenOnce(T_w_c);
+  // The live OctoMap saw the moving points too, with the poses of the time: build
+  // it again from the points that passed and the final poses.
+  octomap_.Clear();
+  for (std::size_t i = 0; i < clouds_.size(); ++i) octomap_.Insert(clouds_[i].points_c, ray_points_[i], T_w_c[i]);
+  octomap_.Finalize();
+}
+
+void SemanticMapper::DropPointsSeenThrough(const std::vector<SE3>& T_c_w, const std::vector<SE3>& T_w_c) {
+  const SemanticConfig& c = config_.semantic;
   const double pool = c.consistency_pool;
-  for (std::size_t i = 0; i < clouds_.size() && c.consistency_filter; ++i) {
+  for (std::size_t i = 0; i < clouds_.size(); ++i) {
     std::vector<ColoredPoint> kept;
     kept.reserve(clouds_[i].points_c.size());
     for (const ColoredPoint& p : clouds_[i].points_c) {
@@ -258,12 +269,6 @@ void SemanticMapper::FilterAndRebuild() {
     }
     clouds_[i].points_c.swap(kept);
   }
-  if (c.min_view_support > 1) DropPointsSeenOnce(T_w_c);
-  // The live OctoMap saw the moving points too, with the poses of the time: build
-  // it again from the points that passed and the final poses.
-  octomap_.Clear();
-  for (std::size_t i = 0; i < clouds_.size(); ++i) octomap_.Insert(clouds_[i].points_c, ray_points_[i], T_w_c[i]);
-  octomap_.Finalize();
 }
 
 void SemanticMapper::DropPointsSeenOnce(const std::vector<SE3>& T_w_c) {

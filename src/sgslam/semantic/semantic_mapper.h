@@ -124,6 +124,8 @@ class SemanticMapper {
   bool filtered_ = false;
   std::size_t inconsistent_ = 0;
   std::size_t unsupported_ = 0;
+  // Drops the points at least consistency_min_votes other keyframes see through.
+  void DropPointsSeenThrough(const std::vector<SE3>& T_c_w, const std::vector<SE3>& T_w_c);
   // Drops the points whose voxel neighbourhood fewer than min_view_support keyframes saw.
   void DropPointsSeenOnce(const std::vector<SE3>& T_w_c);
   std::vector<std::vector<ColoredPoint>> ray_points_;  // per cloud: the free-space ray ends, for the rebuild
