@@ -148,11 +148,11 @@ RunSummary RunSequence(const RunOptions& o) {
 
   std::ostringstream csv;
   csv << "index,timestamp,state,features,kept,rejected_geometry,rejected_semantics,rejected_depth,detections,"
-         "detector_late,matches,inliers,keyframe,extract_ms,detector_ms,wait_ms,reject_ms,track_ms,total_ms\n";
+         "detector_late,matches,inliers,trusted,keyframe,extract_ms,detector_ms,wait_ms,reject_ms,track_ms,total_ms\n";
   for (const auto& r : reports) {
     csv << r.index << ',' << FormatTimestamp(r.t) << ',' << ToString(r.state) << ',' << r.features << ',' << r.kept
         << ',' << r.rejected_geometry << ',' << r.rejected_semantics << ',' << r.rejected_depth << ','
-        << r.detections << ',' << (r.detector_late ? 1 : 0) << ',' << r.matches << ',' << r.inliers << ','
+        << r.detections << ',' << (r.detector_late ? 1 : 0) << ',' << r.matches << ',' << r.inliers << ',' << r.trusted << ','
         << (r.keyframe ? 1 : 0) << ',' << r.extract_ms << ',' << r.detector_ms << ',' << r.wait_ms << ','
         << r.reject_ms << ',' << r.track_ms << ',' << r.total_ms << '\n';
     s.tracked += r.state == TrackState::kOk;

@@ -54,6 +54,9 @@ void TrackingConfig::Validate(ConfigChecker& c) const {
   c.InRange("close_tracked_min", close_tracked_min, 0, 100000);
   c.InRange("close_untracked_min", close_untracked_min, 0, 100000);
   c.InRange("keyframe_min_new_points", keyframe_min_new_points, 0, 100000);
+  c.InRange("trust_delay", trust_delay, 0.0, 60.0);
+  c.InRange("trust_hits", trust_hits, 1, 1000);
+  c.InRange("trust_min_points", trust_min_points, 3, 100000);
 }
 
 void MappingConfig::Validate(ConfigChecker& c) const {

@@ -11,7 +11,11 @@
 namespace sgslam {
 
 MapPoint::MapPoint(std::uint64_t point_id, const Eigen::Vector3d& p_w, const std::shared_ptr<KeyFrame>& reference)
-    : id(point_id), first_keyframe_id(reference ? reference->id : 0), p_w_(p_w), reference_(reference) {}
+    : id(point_id),
+      first_keyframe_id(reference ? reference->id : 0),
+      created_t(reference ? reference->t : 0),
+      p_w_(p_w),
+      reference_(reference) {}
 
 int MapPoint::PredictScale(double distance, const ScaleLevels& scale) const {
   const double ratio = max_distance_ / std::max(distance, 1e-9);

@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 #include <opencv2/core.hpp>
 
+#include "sgslam/common/time.h"
 #include "sgslam/map/features.h"
 
 namespace sgslam {
@@ -33,6 +34,7 @@ class MapPoint {
 
   const std::uint64_t id;
   const std::uint64_t first_keyframe_id;
+  const Timestamp created_t;  // of the keyframe that made it (the age trust is measured by)
 
   // [map] geometry and appearance.
   const Eigen::Vector3d& position() const { return p_w_; }
@@ -82,6 +84,10 @@ class MapPoint {
     int predicted_level = 0;
     std::uint64_t local_for_frame = 0;  // already in the local map of this frame
     std::uint64_t last_frame_seen = 0;  // matched in this frame
+    // Trust (tracking/trusted_pose.h): whether the point may set a frame's pose,
+    // and the late inlier matches that earn it.
+    bool trusted = false;
+    int trust_hits = 0;
   } track;
   // Local mapping thread scratch.
   struct MappingScratch {

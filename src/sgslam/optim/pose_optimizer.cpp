@@ -54,8 +54,8 @@ PoseOptimizationResult OptimizePose(const SE3& T_c_w_initial, const std::vector<
     meas[i] = {obs[i].uv, obs[i].u_right, std::sqrt(std::max(obs[i].inv_sigma2, 0.0))};
     // Start with every observation in front of the camera (ORB-SLAM2 starts
     // with all; one behind would make Ceres reject the initial point).
-    result.inlier[i] = (T_c_w_initial * obs[i].p_w).z() > kMinDepth;
-    usable += result.inlier[i] ? 1 : 0;
+    result.inlier[i] = (T_c_w_initial * obs[i].p_w).z() > kMinDepth && !obs[i].start_excluded;
+    usable += result.inlier[i] && !obs[i].classify_only ? 1 : 0;
   }
 
   double pose[kPoseAmbientSize];
@@ -76,7 +76,7 @@ PoseOptimizationResult OptimizePose(const SE3& T_c_w_initial, const std::vector<
     std::vector<PoseOnlyBatchCost::Item> items;
     items.reserve(static_cast<std::size_t>(usable));
     for (std::size_t i = 0; i < n; ++i) {
-      if (!result.inlier[i]) continue;
+      if (!result.inlier[i] || obs[i].classify_only) continue;
       items.push_back({meas[i], obs[i].p_w, robust ? (meas[i].u_right < 0 ? delta_mono : delta_stereo) : 0.0});
     }
     PoseOnlyBatchCost cost(K, std::move(items));
@@ -87,7 +87,9 @@ PoseOptimizationResult OptimizePose(const SE3& T_c_w_initial, const std::vector<
     ceres::Solve(solver_options, &problem, &summary);
     if (!summary.IsSolutionUsable()) break;  // pose left at the last good value
 
-    usable = Classify(ParamsToPose(pose), obs, meas, K, options, result.inlier);
+    Classify(ParamsToPose(pose), obs, meas, K, options, result.inlier);
+    usable = 0;
+    for (std::size_t i = 0; i < n; ++i) usable += result.inlier[i] && !obs[i].classify_only ? 1 : 0;
     if (usable < 10) break;
   }
   result.T_c_w = ParamsToPose(pose);

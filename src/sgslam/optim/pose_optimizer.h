@@ -5,6 +5,11 @@
 // next run; Huber kernels (delta = sqrt(chi2 threshold)) in all but the last
 // run. Stops early when fewer than 10 inliers remain.
 //
+// Two flags let a caller decide which observations set the pose
+// (tracking/trusted_pose.h): a classify_only observation is classified at every
+// round but never fitted; a start_excluded one sits out the first run only, like
+// an outlier of a previous classification, and comes back when it fits.
+//
 // Map-agnostic: the caller fills plain observations. Deterministic (one thread,
 // fixed order). Pure function, safe to call from any thread.
 #pragma once
@@ -22,6 +27,8 @@ struct PoseObservation {
   Eigen::Vector2d uv = Eigen::Vector2d::Zero();   // keypoint [px]
   double u_right = -1;                            // virtual right u [px]; < 0: monocular
   double inv_sigma2 = 1;                          // 1 / sigma^2 of the keypoint's level
+  bool classify_only = false;                     // classified at the pose, never fitted
+  bool start_excluded = false;                    // not fitted in the first run (may come back)
 };
 
 struct PoseOptimizerOptions {

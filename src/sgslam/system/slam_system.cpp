@@ -126,6 +126,7 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
   report.state = result.state;
   report.matches = result.matches;
   report.inliers = result.inliers;
+  report.trusted = result.trusted;
   report.track_ms = watch.ElapsedMs();
   if (result.state == TrackState::kOk && frame.reference_kf) {
     std::shared_lock lock(map_.mutex());

@@ -31,6 +31,7 @@ struct FrameReport {
   Timestamp t = 0;
   TrackState state = TrackState::kNotInitialized;
   int features = 0, matches = 0, inliers = 0;
+  int trusted = 0;  // inliers whose map points are trusted to set the pose (tracking/trusted_pose.h)
   bool keyframe = false;
   // Dynamic feature rejection (zeros in mode none): keypoints kept, rejected by
   // the epipolar test, by the boxes alone, by the RGB-D check.

@@ -22,7 +22,10 @@ const char* ToString(TrackState state) {
   return "?";
 }
 
-Tracker::Tracker(const Config& config, Map& map) : config_(config), map_(map) {
+Tracker::Tracker(const Config& config, Map& map)
+    : config_(config),
+      trust_{config.tracking.trust_delay, config.tracking.trust_hits, config.tracking.trust_min_points},
+      map_(map) {
   // ORB-SLAM2: points closer than ThDepth baselines are "close" (reliable depth).
   th_depth_ = config.camera.baseline_fx * config.camera.close_depth / config.camera.fx;
 }
@@ -123,6 +126,7 @@ bool Tracker::Initialize(Frame& frame, TrackResult& result) {
   std::unique_lock lock(map_.mutex());
   auto kf = std::make_shared<KeyFrame>(map_.NewKeyFrameId(), frame.id, frame.t, frame.features, frame.T_c_w);
   AddDepthPoints(frame, kf, /*all=*/true);
+  TrustAll(kf->map_points());
   map_.AddKeyFrame(kf);
   reference_kf_ = kf;
   frame.reference_kf = kf;
@@ -231,6 +235,8 @@ bool Tracker::TrackLocalMap(Frame& frame, TrackResult& result) {
   result.matches = static_cast<int>(std::count_if(frame.map_points.begin(), frame.map_points.end(),
                                                   [](const auto& p) { return p != nullptr; }));
   OptimizePose(frame);
+  UpdateTrust(frame, trust_);
+  result.trusted = CountTrustedInliers(frame);
   int inliers = 0;
   for (std::size_t i = 0; i < frame.map_points.size(); ++i) {
     const auto& p = frame.map_points[i];
@@ -247,9 +253,11 @@ int Tracker::OptimizePose(Frame& frame) {
   const Camera& cam = *f.camera;
   std::vector<optim::PoseObservation> obs;
   std::vector<std::size_t> index;
+  std::vector<bool> trusted;
   for (std::size_t i = 0; i < frame.map_points.size(); ++i) {
     const auto& p = frame.map_points[i];
     if (!p) continue;
+    trusted.push_back(p->track.trusted);
     optim::PoseObservation o;
     o.p_w = p->position();
     o.uv = {f.keys_un[i].pt.x, f.keys_un[i].pt.y};
@@ -261,7 +269,7 @@ int Tracker::OptimizePose(Frame& frame) {
   std::fill(frame.outlier.begin(), frame.outlier.end(), 0);
   if (obs.size() < 3) return 0;
   const optim::Intrinsics K{cam.fx(), cam.fy(), cam.cx(), cam.cy(), cam.baseline_fx()};
-  const auto r = optim::OptimizePose(frame.T_c_w, obs, K);
+  const auto r = OptimizePoseTrusted(frame.T_c_w, std::move(obs), trusted, K, trust_);
   frame.T_c_w = r.T_c_w;
   int inliers = 0;
   for (std::size_t k = 0; k < index.size(); ++k) {

@@ -16,6 +16,7 @@
 #include "sgslam/map/frame.h"
 #include "sgslam/map/map.h"
 #include "sgslam/tracking/local_map.h"
+#include "sgslam/tracking/trusted_pose.h"
 
 namespace sgslam {
 
@@ -26,6 +27,7 @@ struct TrackResult {
   TrackState state = TrackState::kNotInitialized;
   int matches = 0;  // map points matched before the last pose optimisation
   int inliers = 0;  // after it
+  int trusted = 0;  // of the inliers, map points trusted to set the pose (trusted_pose.h)
   std::shared_ptr<KeyFrame> new_keyframe;  // for local mapping, when one was made
 };
 
@@ -61,6 +63,7 @@ class Tracker {
   int AddDepthPoints(Frame& frame, const std::shared_ptr<KeyFrame>& kf, bool all);
 
   const Config config_;
+  const TrustOptions trust_;
   Map& map_;
   LocalMap local_map_;
   TrackState state_ = TrackState::kNotInitialized;
