@@ -62,10 +62,12 @@ RunSummary RunSequence(const RunOptions& o) {
   if (!o.mode.empty()) rc.config.dynamic.mode = o.mode;
   if (!o.model.empty()) rc.config.detector.model_dir = o.model;
   if (o.no_detector) rc.config.detector.backend = "none";
-  if (!o.mode.empty() || !o.model.empty() || o.no_detector) {
-    rc.source += " + command-line options";
-    rc.config.Validate(rc.source);
+  if (!o.mode.empty() || !o.model.empty() || o.no_detector) rc.source += " + command-line options";
+  if (o.tweak) {
+    o.tweak(rc.config);
+    rc.source += " + " + (o.tweak_name.empty() ? std::string("program overrides") : o.tweak_name);
   }
+  if (!o.mode.empty() || !o.model.empty() || o.no_detector || o.tweak) rc.config.Validate(rc.source);
   const Config& config = rc.config;
   TumDataset dataset(dataset_dir, config.dataset);
   RunSummary s;
@@ -175,7 +177,7 @@ RunSummary RunSequence(const RunOptions& o) {
     sem->octomap().Write(s.out / "octomap.bt");
     WriteObjectsJson(s.out / "objects.json", objects);
     WriteTopView(s.out / "map_top.png", cloud, colours, objects, trajectory);
-    PrintObjectTable(objects);
+    if (o.print_objects) PrintObjectTable(objects);
     const SemanticStats st = sem->stats();
     semantic_json = {{"keyframes", st.keyframes},
                      {"keyframes_dropped", st.dropped},

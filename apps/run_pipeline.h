@@ -4,8 +4,11 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
+
+#include "sgslam/config/config.h"
 
 namespace sgslam::app {
 
@@ -18,6 +21,11 @@ struct RunOptions {
   bool realtime = false;
   std::size_t max_frames = 0;
   int viewer_port = 0;
+  bool print_objects = true;  // the end-of-run object table on stdout
+  // Programmatic overrides after the file and the options above (the demo's
+  // comparison runs); `tweak_name` is added to the configuration's source.
+  std::function<void(Config&)> tweak;
+  std::string tweak_name;
 };
 
 struct RunSummary {

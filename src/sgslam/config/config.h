@@ -120,11 +120,11 @@ struct TrackingConfig {
   // joins. A mover is caught by the time it has moved, whatever its image motion
   // in two frames: dyn_dev's unknown box (0.35 m/s, mostly along the view) passes
   // every two-frame test, its points entered the map at each keyframe and set the
-  // pose over 100 matches to 28 static. Panels of 7 ORB budgets (850-1150,
+  // pose over 100 matches to 28 static. Panels of 5 ORB budgets (900-1100,
   // --sequential), median without -> with (trust_delay 0.3, hits 2, min 20):
-  //   dyn_dev sg 0.138 -> 0.042 m; none 0.315 -> 0.128; ground-truth masks 0.059 -> 0.039;
-  //   fr1_rpy 300 frames (static) 0.0273 -> 0.0303 (spread 0.020-0.041 -> 0.029-0.033);
-  //   fr1_rpy 694 frames 0.0215 -> 0.0223 (spread 0.017-0.030 -> 0.021-0.025).
+  //   dyn_dev sg 0.129 -> 0.041 m; none 0.315 -> 0.128; ground-truth masks 0.080 -> 0.037;
+  //   fr1_rpy 300 frames (static) 0.0273 -> 0.0303 (spread 0.020-0.035 -> 0.030-0.033);
+  //   fr1_rpy 694 frames 0.0215 -> 0.0223 (spread 0.017-0.026 -> 0.022-0.025).
   // 0.5 s let the box back in before enough points were trusted (sg 0.126 m);
   // 0.2 s gave 0.040 m. 0: off (ORB-SLAM2: every match sets the pose).
   double trust_delay = 0.3;  // s
