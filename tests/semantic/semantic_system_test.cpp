@@ -191,6 +191,9 @@ TEST_F(SemanticSystem, ObjectsPresetGivesEveryObjectOnceWithItsClassAndHeight) {
     }
     ASSERT_GE(best_id, 0) << o.class_name << " is not in the scene";
     ++matched[best_id];
+    std::printf("  %-12s obs %3d  centroid error %.3f m  size error %.3f %.3f %.3f m\n", o.class_name.c_str(),
+                o.observations, best, std::abs(o.size.x() - best_size.x()), std::abs(o.size.y() - best_size.y()),
+                std::abs(o.size.z() - best_size.z()));
     EXPECT_LT(best, 0.15) << o.class_name << " " << o.id << ": centroid " << o.centroid.transpose();
     height_ok += std::abs(o.size.z() - best_size.z()) < 0.10;
     size_ok += (o.size - best_size).cwiseAbs().maxCoeff() < 0.15;

@@ -20,6 +20,7 @@ void DynamicConfig::Validate(ConfigChecker& c) const {
   c.InRange("ransac_iterations", ransac_iterations, 10, 100000);
   c.InRange("min_static_pairs", min_static_pairs, 15, 100000);  // OpenCV's RANSAC needs 15 pairs
   c.InRange("max_box_area", max_box_area, 0.0, 1.0);
+  c.InRange("box_depth_band", box_depth_band, 0.0, 10.0);
   c.InRange("min_kept_ratio", min_kept_ratio, 0.0, 1.0);
   c.InRange("relax_factor", relax_factor, 1.0, 10.0);
   c.InRange("relax_steps", relax_steps, 0, 20);
