@@ -69,6 +69,39 @@ TEST(DepthCheck, FlagsSidewaysAndDepthMotionAndKeepsStaticPoints) {
   }
 }
 
+// Fast rotation with a rolling shutter: every static point lands 4 px off where the
+// motion puts it; a mover lands 25 px off. A fixed 3 px tolerance flags them all, a
+// tolerance of 3x the frame's median residual only the mover.
+TEST(DepthCheck, ReprojectionToleranceFollowsTheFramesMedianResidual) {
+  DepthCheckInput in;
+  in.K = {kFx, kFx, kCx, kCy};
+  in.prev_depth = cv::Mat(480, 640, CV_32F, cv::Scalar(2.0));
+  in.cur_depth = in.prev_depth.clone();
+  std::vector<cv::Point2f> prev, cur;
+  for (int i = 0; i < 20; ++i) {
+    prev.emplace_back(100.f + 20.f * i, 100.f + 10.f * i);
+    cur.push_back(prev.back() + cv::Point2f(4.f, 0.f));
+  }
+  prev.emplace_back(320.f, 400.f);
+  cur.push_back(prev.back() + cv::Point2f(25.f, 0.f));
+  const std::vector<bool> use(prev.size(), true);
+  DynamicConfig c;
+  c.reprojection_median_factor = 0;
+  std::vector<DepthResidual> r = CheckDepth(prev, cur, use, in, c);
+  for (const DepthResidual& x : r) EXPECT_TRUE(x.valid && x.moved);
+  c.reprojection_median_factor = 3;
+  r = CheckDepth(prev, cur, use, in, c);
+  for (size_t i = 0; i + 1 < r.size(); ++i) EXPECT_FALSE(r[i].moved) << i;
+  EXPECT_TRUE(r.back().moved);
+  // The fixed tolerance stays the floor: with every residual tiny, 3x the median is
+  // below 3 px and a 5 px outlier is still flagged.
+  for (size_t i = 0; i + 1 < cur.size(); ++i) cur[i] = prev[i] + cv::Point2f(0.2f, 0.f);
+  cur.back() = prev.back() + cv::Point2f(5.f, 0.f);
+  r = CheckDepth(prev, cur, use, in, c);
+  for (size_t i = 0; i + 1 < r.size(); ++i) EXPECT_FALSE(r[i].moved) << i;
+  EXPECT_TRUE(r.back().moved);
+}
+
 TEST(DepthCheck, SkipsMissingDepthAndUnusedPairs) {
   Scene s = Make(CV_32F);
   s.in.prev_depth.at<float>(cvRound(s.prev[0].y), cvRound(s.prev[0].x)) = 0;

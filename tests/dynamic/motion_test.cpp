@@ -173,9 +173,18 @@ TEST(Motion, DepthCheckWithPnpMotionCatchesMoversOnTheFr1Lens) {
   EXPECT_GE(t.moving_rejected, 90);  // 3 cm at 1-5 m: 3-15 px, above the 3 px tolerance
   EXPECT_EQ(t.static_rejected, 0);
   EXPECT_FALSE(r.depth_ignored);
-  // The tracker's pose instead (here the identity, a bad prediction): the check
-  // would flag nearly everything, so it is ignored for the frame...
+  // The tracker's pose instead (here the identity, a bad prediction): every
+  // reprojection residual is large, so the tolerance that follows the frame's
+  // median level flags no static point...
   c.depth_motion = "tracker";
+  c.mode = "sg";  // the median level is used in sg only (no boxes here: the same test)
+  const RejectionResult level = JudgePairs(Pairs(s, true), Keys(s), {}, {}, c, &depth);
+  std::printf("identity motion, median-level tolerance: %d of %d static rejected\n", Count(s, level).static_rejected,
+              t.statics);
+  EXPECT_EQ(Count(s, level).static_rejected, 0);
+  // ... and with the fixed tolerance alone (geometric mode) the check would flag
+  // nearly everything, so it is ignored for the frame...
+  c.mode = "geometric";
   const RejectionResult bad = JudgePairs(Pairs(s, true), Keys(s), {}, {}, c, &depth);
   EXPECT_FALSE(bad.motion);
   EXPECT_TRUE(bad.depth_ignored);

@@ -1,5 +1,6 @@
 #include "sgslam/dynamic/depth_check.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -69,8 +70,23 @@ std::vector<DepthResidual> CheckDepth(const std::vector<cv::Point2f>& prev, cons
     const Eigen::Vector2d projected(K.fx * X_cur.x() / X_cur.z() + K.cx, K.fy * X_cur.y() / X_cur.z() + K.cy);
     r.reprojection_error = (projected - Eigen::Vector2d(cur_un[i].x, cur_un[i].y)).norm();
     const double z_tolerance = config.depth_tolerance + config.depth_tolerance_quadratic * X_cur.z() * X_cur.z();
-    r.moved = r.depth_error > z_tolerance ||
-              (config.reprojection_tolerance > 0 && r.reprojection_error > config.reprojection_tolerance);
+    r.moved = r.depth_error > z_tolerance;
+  }
+  if (config.reprojection_tolerance > 0) {
+    // The frame's own residual level: under fast rotation the static points' residuals
+    // grow together (rolling shutter, an imprecise motion), a mover's stand out.
+    std::vector<double> e;
+    for (const DepthResidual& r : out) {
+      if (r.valid) e.push_back(r.reprojection_error);
+    }
+    double tolerance = config.reprojection_tolerance;
+    constexpr std::size_t kMinForMedian = 20;  // fewer: no level to speak of, the fixed tolerance
+    if (config.reprojection_median_factor > 0 && e.size() >= kMinForMedian) {
+      auto mid = e.begin() + static_cast<std::ptrdiff_t>(e.size() / 2);
+      std::nth_element(e.begin(), mid, e.end());
+      tolerance = std::max(tolerance, config.reprojection_median_factor * *mid);
+    }
+    for (DepthResidual& r : out) r.moved = r.moved || (r.valid && r.reprojection_error > tolerance);
   }
   return out;
 }

@@ -5,7 +5,10 @@
 // keypoint's position. A point is flagged as moved when
 //   |z_pred - z_meas| > depth_tolerance + depth_tolerance_quadratic * z^2
 // (Kinect depth noise grows with z^2, Khoshelham & Elberink 2012), or when the
-// reprojection error exceeds reprojection_tolerance px. The second term is what
+// reprojection error exceeds reprojection_tolerance px, or reprojection_median_factor
+// times the frame's median reprojection error when that is larger (under fast
+// rotation a rolling shutter and an imprecise motion move every static point off
+// together, a mover stands out of that level). The second term is what
 // catches the degenerate preset: a walker moving sideways parallel to the camera
 // keeps its depth and stays on its epipolar line, but not where a static point
 // would reproject.

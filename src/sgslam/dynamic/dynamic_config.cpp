@@ -33,6 +33,7 @@ void DynamicConfig::Validate(ConfigChecker& c) const {
   c.InRange("depth_tolerance", depth_tolerance, 0.0, 10.0);
   c.InRange("depth_tolerance_quadratic", depth_tolerance_quadratic, 0.0, 1.0);
   c.InRange("reprojection_tolerance", reprojection_tolerance, 0.0, 1000.0);
+  c.InRange("reprojection_median_factor", reprojection_median_factor, 0.0, 100.0);
   c.InRange("track_radius", track_radius, 0.1, 50.0);
   c.InRange("track_min_age", track_min_age, 1, 1000);
   c.Check(track_max_age >= track_min_age, "track_max_age", track_max_age, "must be >= track_min_age");
