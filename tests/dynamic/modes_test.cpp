@@ -31,30 +31,27 @@ TEST(Modes, LargestWeightOfTheBoxesHoldingAKeypointCounts) {
 
 // A person at 2 m fills the middle of its box; the wall 4 m away shows beside it.
 TEST(Modes, BackgroundBehindADynamicBoxKeepsTheStaticWeight) {
-  cv::Mat depth(200, 200, CV_32F, cv::Scalar(4.f));
-  depth(cv::Rect(70, 20, 60, 170)).setTo(2.f);  // the person, inside the box [50, 150) x [10, 190)
+  cv::Mat with_depth(200, 200, CV_32F, cv::Scalar(4.f));
+  with_depth(cv::Rect(70, 20, 60, 170)).setTo(2.f);  // the person, inside the box [50, 150) x [10, 190)
+  cv::Mat depth = with_depth.clone();
+  depth.at<float>(180, 52) = 0.f;  // a hole under the keypoint at (52, 180)
   const std::vector<Detection> dets = {Box("person", 50, 10, 100, 180), Box("chair", 0, 150, 60, 50)};
-  const std::vector<cv::KeyPoint> keys = {{100, 100, 7}, {55, 100, 7}, {145, 30, 7}, {52, 180, 7}, {20, 20, 7}};
   // On the person; background left and right of it; background without depth; outside.
-  const std::vector<float> key_depth = {2.f, 4.f, 4.f, 0.f, 4.f};
+  const std::vector<cv::KeyPoint> keys = {{100, 100, 7}, {55, 100, 7}, {145, 30, 7}, {52, 180, 7}, {20, 20, 7}};
   EXPECT_NEAR(BoxObjectDepth(dets[0].box, depth, 1.0, 0.25), 2.0, 1e-6);
-  EXPECT_EQ(KeypointWeightsWithDepth(keys, dets, Weight, key_depth, depth, 1.0, 0.5),
-            (std::vector<double>{5, 1, 1, 5, 1}));
+  EXPECT_EQ(KeypointWeightsWithDepth(keys, dets, Weight, depth, 1.0, 0.5), (std::vector<double>{5, 1, 1, 5, 1}));
   // With depth, the keypoint at (52, 180) is background of the person box, but the
   // chair box (w = 2) holds it too and the chair's own depth is 4 m: w = 2.
-  const std::vector<float> with_depth = {2.f, 4.f, 4.f, 4.f, 4.f};
-  EXPECT_EQ(KeypointWeightsWithDepth(keys, dets, Weight, with_depth, depth, 1.0, 0.5),
-            (std::vector<double>{5, 1, 1, 2, 1}));
+  EXPECT_EQ(KeypointWeightsWithDepth(keys, dets, Weight, with_depth, 1.0, 0.5), (std::vector<double>{5, 1, 1, 2, 1}));
   // Off (band 0), or a raw 16-bit depth image: the same as KeypointWeights / as metres.
-  EXPECT_EQ(KeypointWeightsWithDepth(keys, dets, Weight, key_depth, depth, 1.0, 0.0), KeypointWeights(keys, dets, Weight));
+  EXPECT_EQ(KeypointWeightsWithDepth(keys, dets, Weight, depth, 1.0, 0.0), KeypointWeights(keys, dets, Weight));
   cv::Mat raw;
   depth.convertTo(raw, CV_16U, 5000.0);
-  EXPECT_EQ(KeypointWeightsWithDepth(keys, dets, Weight, key_depth, raw, 5000.0, 0.5),
-            (std::vector<double>{5, 1, 1, 5, 1}));
+  EXPECT_EQ(KeypointWeightsWithDepth(keys, dets, Weight, raw, 5000.0, 0.5), (std::vector<double>{5, 1, 1, 5, 1}));
   // A box with no depth in its middle: no object depth, every keypoint keeps w.
   cv::Mat holes(200, 200, CV_32F, cv::Scalar(0.f));
   EXPECT_EQ(BoxObjectDepth(dets[0].box, holes, 1.0, 0.25), 0.0);
-  EXPECT_EQ(KeypointWeightsWithDepth(keys, dets, Weight, key_depth, holes, 1.0, 0.5), KeypointWeights(keys, dets, Weight));
+  EXPECT_EQ(KeypointWeightsWithDepth(keys, dets, Weight, holes, 1.0, 0.5), KeypointWeights(keys, dets, Weight));
 }
 
 TEST(Modes, KeypointsWithoutAPairAreRejectedOnlyInsideDynamicBoxes) {

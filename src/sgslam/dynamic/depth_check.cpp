@@ -1,5 +1,7 @@
 #include "sgslam/dynamic/depth_check.h"
 
+#include "sgslam/dynamic/depth_sample.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -7,11 +9,6 @@
 namespace sgslam::dynamic {
 
 namespace {
-
-double DepthAt(const cv::Mat& depth, int x, int y, double depth_factor) {
-  if (depth.type() == CV_16U) return depth.at<std::uint16_t>(y, x) / depth_factor;
-  return depth.at<float>(y, x);
-}
 
 bool InRange(double z, const DynamicConfig& c) { return std::isfinite(z) && z >= c.depth_min && z <= c.depth_max; }
 

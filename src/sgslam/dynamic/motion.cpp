@@ -1,5 +1,7 @@
 #include "sgslam/dynamic/motion.h"
 
+#include "sgslam/dynamic/depth_sample.h"
+
 #include <opencv2/calib3d.hpp>
 
 #include <algorithm>
@@ -43,8 +45,7 @@ std::optional<MotionEstimate> EstimateMotion(const std::vector<cv::Point2f>& pre
     if (!use[i]) continue;
     const int x = cvRound(prev_raw[i].x), y = cvRound(prev_raw[i].y);
     if (x < 0 || y < 0 || x >= prev_depth.cols || y >= prev_depth.rows) continue;
-    const double z = prev_depth.type() == CV_16U ? prev_depth.at<std::uint16_t>(y, x) / depth_factor
-                                                 : static_cast<double>(prev_depth.at<float>(y, x));
+    const double z = DepthAt(prev_depth, x, y, depth_factor);
     if (!std::isfinite(z) || z < config.depth_min || z > config.depth_max) continue;
     object.emplace_back(static_cast<float>((prev_un[i].x - K.cx) / K.fx * z),
                         static_cast<float>((prev_un[i].y - K.cy) / K.fy * z), static_cast<float>(z));

@@ -1,5 +1,7 @@
 #include "sgslam/dynamic/regions.h"
 
+#include "sgslam/dynamic/depth_sample.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -34,7 +36,7 @@ double BoxObjectDepth(const cv::Rect2f& box, const cv::Mat& depth, double depth_
       const float x = box.x + box.width * (0.25f + 0.5f * (gx + 0.5f) / kGrid);
       const int xi = static_cast<int>(x), yi = static_cast<int>(y);
       if (xi < 0 || yi < 0 || xi >= depth.cols || yi >= depth.rows) continue;
-      const double d = depth.type() == CV_16U ? depth.at<std::uint16_t>(yi, xi) / depth_factor : depth.at<float>(yi, xi);
+      const double d = DepthAt(depth, xi, yi, depth_factor);
       if (d > 0 && std::isfinite(d)) z.push_back(static_cast<float>(d));
     }
   }
@@ -46,11 +48,9 @@ double BoxObjectDepth(const cv::Rect2f& box, const cv::Mat& depth, double depth_
 
 std::vector<double> KeypointWeightsWithDepth(const std::vector<cv::KeyPoint>& keys,
                                              const std::vector<Detection>& detections, const WeightFn& weight,
-                                             const std::vector<float>& key_depth, const cv::Mat& depth,
-                                             double depth_factor, double band, double object_percentile) {
-  if (!(band > 0) || key_depth.size() != keys.size() || depth.empty()) {
-    return KeypointWeights(keys, detections, weight);
-  }
+                                             const cv::Mat& depth, double depth_factor, double band,
+                                             double object_percentile) {
+  if (!(band > 0) || depth.empty()) return KeypointWeights(keys, detections, weight);
   std::vector<double> w(keys.size(), 1.0);
   if (!weight) return w;
   for (const Detection& d : detections) {
@@ -60,7 +60,11 @@ std::vector<double> KeypointWeightsWithDepth(const std::vector<cv::KeyPoint>& ke
     for (size_t i = 0; i < keys.size(); ++i) {
       const cv::Point2f& p = keys[i].pt;
       if (!(p.x >= d.box.x && p.x < d.box.x + d.box.width && p.y >= d.box.y && p.y < d.box.y + d.box.height)) continue;
-      const bool behind = z_object > 0 && key_depth[i] > 0 && key_depth[i] > z_object + band;
+      // Keypoints lie in the image; the clamp only guards the rounding.
+      const int x = std::clamp(static_cast<int>(p.x), 0, depth.cols - 1);
+      const int y = std::clamp(static_cast<int>(p.y), 0, depth.rows - 1);
+      const double z = DepthAt(depth, x, y, depth_factor);
+      const bool behind = z_object > 0 && z > 0 && std::isfinite(z) && z > z_object + band;
       if (!behind) w[i] = std::max(w[i], wd);
     }
   }

@@ -29,12 +29,12 @@ std::vector<double> KeypointWeights(const std::vector<cv::KeyPoint>& keys, const
 // nearer part, which the object fills in front of what lies behind it); a keypoint
 // measured more than `band` metres behind it is background and keeps w = 1 for that
 // box. Keypoints without depth, and boxes with too few depth samples, keep w.
-// key_depth: metres per keypoint, 0 = none. depth: the frame's depth in metres
-// (CV_32F) or raw CV_16U with depth_factor. band <= 0: plain KeypointWeights.
+// depth: the frame's depth in metres (CV_32F) or raw CV_16U with depth_factor,
+// sampled at the keypoints' (raw) pixels. band <= 0: plain KeypointWeights.
 std::vector<double> KeypointWeightsWithDepth(const std::vector<cv::KeyPoint>& keys,
                                              const std::vector<Detection>& detections, const WeightFn& weight,
-                                             const std::vector<float>& key_depth, const cv::Mat& depth,
-                                             double depth_factor, double band, double object_percentile = 0.25);
+                                             const cv::Mat& depth, double depth_factor, double band,
+                                             double object_percentile = 0.25);
 
 // The object depth of a box as above (m), or 0 with fewer than 8 valid samples.
 double BoxObjectDepth(const cv::Rect2f& box, const cv::Mat& depth, double depth_factor, double percentile);

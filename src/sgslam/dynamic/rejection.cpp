@@ -130,20 +130,11 @@ RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>
   RejectionResult r;
   r.eps_used = config.eps_std;
   r.ms.flow = pairs.ms;
-  std::vector<double> w;
-  if (mode == Mode::kSg && config.box_depth_band > 0 && depth != nullptr && !depth->cur_depth.empty()) {
-    const cv::Mat& d = depth->cur_depth;
-    std::vector<float> key_depth(keys.size(), 0.f);
-    for (size_t i = 0; i < keys.size(); ++i) {
-      const int x = static_cast<int>(keys[i].pt.x), y = static_cast<int>(keys[i].pt.y);
-      if (x < 0 || y < 0 || x >= d.cols || y >= d.rows) continue;
-      key_depth[i] = d.type() == CV_16U ? static_cast<float>(d.at<std::uint16_t>(y, x) / depth->depth_factor)
-                                        : d.at<float>(y, x);
-    }
-    w = KeypointWeightsWithDepth(keys, detections, weight, key_depth, d, depth->depth_factor, config.box_depth_band);
-  } else {
-    w = KeypointWeights(keys, detections, weight);
-  }
+  const std::vector<double> w =
+      mode == Mode::kSg && depth != nullptr
+          ? KeypointWeightsWithDepth(keys, detections, weight, depth->cur_depth, depth->depth_factor,
+                                     config.box_depth_band)
+          : KeypointWeights(keys, detections, weight);
   r.keypoints.resize(keys.size());
   for (size_t i = 0; i < keys.size(); ++i) r.keypoints[i].weight = w[i];
   const int min_kept = static_cast<int>(std::ceil(config.min_kept_ratio * static_cast<double>(keys.size())));
