@@ -62,12 +62,13 @@ RunSummary RunSequence(const RunOptions& o) {
   if (!o.mode.empty()) rc.config.dynamic.mode = o.mode;
   if (!o.model.empty()) rc.config.detector.model_dir = o.model;
   if (o.no_detector) rc.config.detector.backend = "none";
-  if (!o.mode.empty() || !o.model.empty() || o.no_detector) rc.source += " + command-line options";
+  const bool options = !o.mode.empty() || !o.model.empty() || o.no_detector;
+  if (options) rc.source += " + command-line options";
   if (o.tweak) {
     o.tweak(rc.config);
     rc.source += " + " + (o.tweak_name.empty() ? std::string("program overrides") : o.tweak_name);
   }
-  if (!o.mode.empty() || !o.model.empty() || o.no_detector || o.tweak) rc.config.Validate(rc.source);
+  if (options || o.tweak) rc.config.Validate(rc.source);
   const Config& config = rc.config;
   TumDataset dataset(dataset_dir, config.dataset);
   RunSummary s;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <numeric>
+#include <optional>
 #include <stdexcept>
 
 #include "sgslam/common/error.h"
@@ -200,10 +201,14 @@ RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>
       // The median level needs the movers mostly gone from the pairs, which only the
       // boxes of sg give: in geometric mode people fill up to half of a dyn_dev frame,
       // lift the median and pass (3 of 5 panel runs failed at 0.15-0.16 m).
-      DynamicConfig check = config;
-      if (mode != Mode::kSg) check.reprojection_median_factor = 0;
+      // (A copy of the config only then: it holds strings, and this runs every frame.)
+      std::optional<DynamicConfig> fixed;
+      if (mode != Mode::kSg && config.reprojection_median_factor > 0) {
+        fixed = config;
+        fixed->reprojection_median_factor = 0;
+      }
       const std::vector<DepthResidual> residuals =
-          CheckDepth(flow.prev, pairs.cur, pairs.prev_un, pairs.cur_un, valid, *in, check);
+          CheckDepth(flow.prev, pairs.cur, pairs.prev_un, pairs.cur_un, valid, *in, fixed ? *fixed : config);
       int checked = 0, flagged = 0;
       for (size_t i = 0; i < keys.size(); ++i) {
         moved[i] = residuals[i].valid && residuals[i].moved;
