@@ -136,6 +136,40 @@ TEST(ObserveObject, TakesTheObjectDepthsOfTheWholeBox) {
   EXPECT_FALSE(ObserveObject({56, "chair", 0.8f, cv::Rect2f(10, 10, 4, 4)}, FaceBeforeWall(), 5000, rays, c));
 }
 
+// A nearer object (its own detection) hides the left two thirds of the face: the
+// face's depth must come from what the other box leaves visible, and the hiding
+// object's pixels must not join the face.
+TEST(ObserveObject, AnOccluderInItsOwnBoxDoesNotSetTheDepth) {
+  const Camera cam(PinholeCamera());
+  const PixelRays rays(cam);
+  SemanticConfig c;
+  cv::Mat depth = FaceBeforeWall();
+  depth(cv::Rect(170, 140, 95, 200)).setTo(1.2 * 5000);
+  const std::vector<Detection> dets = {{56, "chair", 0.8f, cv::Rect2f(180, 130, 140, 220)},
+                                       {62, "tvmonitor", 0.8f, cv::Rect2f(165, 135, 105, 210)}};
+  const std::vector<double> z = ObjectDepths(dets, depth, 5000, c);
+  ASSERT_EQ(z.size(), 2u);
+  EXPECT_NEAR(z[0], 2.0, 1e-3);  // from the face's uncovered columns
+  EXPECT_NEAR(z[1], 1.2, 1e-3);  // the whole inner box: the face's box covers it all
+  // Without the other box the occluder is the majority of the inner box and wins.
+  const auto blind = ObserveObject(dets[0], depth, 5000, rays, c);
+  ASSERT_TRUE(blind.has_value());
+  EXPECT_NEAR(blind->points_c.front().z(), 1.2f, 1e-3);
+  const auto obs = ObserveObject(dets[0], depth, 5000, rays, c, {{dets[1].box, z[1]}});
+  ASSERT_TRUE(obs.has_value());
+  float x_min = 1e9f;
+  for (const auto& p : obs->points_c) {
+    EXPECT_NEAR(p.z(), 2.0f, 1e-4);
+    x_min = std::min(x_min, p.x());
+  }
+  // The visible part of the face starts at column 265.
+  EXPECT_NEAR(x_min, (265 - 319.5) / 500.0 * 2.0, 0.02);  // sampled every few px
+  // An unknown depth (0) leaves the box out of the reasoning.
+  const auto unknown = ObserveObject(dets[0], depth, 5000, rays, c, {{dets[1].box, 0.0}});
+  ASSERT_TRUE(unknown.has_value());
+  EXPECT_NEAR(unknown->points_c.front().z(), 1.2f, 1e-3);
+}
+
 TEST(FitPlanes, FindsFloorAndWallButNotTheClutterBetween) {
   std::vector<Eigen::Vector3f> pts;
   for (int i = 0; i < 20; ++i)

@@ -59,50 +59,111 @@ void RemoveBackgroundPlanes(const cv::Rect2f& b, const cv::Rect& full, const cv:
   }
 }
 
+bool InBox(const cv::Point& p, const cv::Rect2f& b) {
+  return p.x >= b.x && p.y >= b.y && p.x < b.x + b.width && p.y < b.y + b.height;
+}
+
+bool InAnyBox(const cv::Point& p, const std::vector<cv::Rect2f>& boxes) {
+  return std::any_of(boxes.begin(), boxes.end(), [&](const cv::Rect2f& b) { return InBox(p, b); });
+}
+
+cv::Rect PixelBox(const cv::Rect2f& b, double share, const cv::Rect& image) {
+  return cv::Rect(cv::Point(cvRound(b.x + b.width * (1 - share) / 2), cvRound(b.y + b.height * (1 - share) / 2)),
+                  cv::Point(cvRound(b.x + b.width * (1 + share) / 2), cvRound(b.y + b.height * (1 + share) / 2))) &
+         image;
+}
+
+// Depth samples (about 4 * max_points) of a pixel rectangle, in range.
+void SampleDepths(const cv::Mat& depth_raw, double depth_factor, const cv::Rect& r, int max_points,
+                  const SemanticConfig& config, std::vector<cv::Point>& pixels, std::vector<double>& depths) {
+  if (r.area() <= 0) return;
+  const int step = std::max(1, static_cast<int>(std::sqrt(r.area() / (4.0 * max_points))));
+  for (int v = r.y; v < r.y + r.height; v += step) {
+    const std::uint16_t* d = depth_raw.ptr<std::uint16_t>(v);
+    for (int u = r.x; u < r.x + r.width; u += step) {
+      const double z = d[u] / depth_factor;
+      if (d[u] == 0 || z < config.depth_min || z > config.depth_max) continue;
+      pixels.emplace_back(u, v);
+      depths.push_back(z);
+    }
+  }
+}
+
+// The inner samples' depths outside every box in `others`, or all of them when
+// fewer than min_points are left.
+std::vector<double> UncoveredDepths(const std::vector<cv::Point>& pixels, const std::vector<double>& depths,
+                                    const std::vector<cv::Rect2f>& others, int min_points) {
+  if (others.empty()) return depths;
+  std::vector<double> out;
+  for (std::size_t i = 0; i < pixels.size(); ++i)
+    if (!InAnyBox(pixels[i], others)) out.push_back(depths[i]);
+  return static_cast<int>(out.size()) >= min_points ? out : depths;
+}
+
 }  // namespace
+
+std::vector<double> ObjectDepths(const std::vector<Detection>& detections, const cv::Mat& depth_raw,
+                                 double depth_factor, const SemanticConfig& config) {
+  std::vector<double> out(detections.size(), 0.0);
+  if (depth_raw.empty() || depth_raw.type() != CV_16UC1) return out;
+  const cv::Rect image(0, 0, depth_raw.cols, depth_raw.rows);
+  for (std::size_t i = 0; i < detections.size(); ++i) {
+    std::vector<cv::Rect2f> others;
+    for (std::size_t j = 0; j < detections.size(); ++j)
+      if (j != i) others.push_back(detections[j].box);
+    std::vector<cv::Point> pixels;
+    std::vector<double> depths;
+    SampleDepths(depth_raw, depth_factor, PixelBox(detections[i].box, config.object_box_shrink, image),
+                 config.object_max_points, config, pixels, depths);
+    const std::vector<double> own = UncoveredDepths(pixels, depths, others, config.object_min_points);
+    if (!own.empty()) out[i] = Median(own);
+  }
+  return out;
+}
 
 std::optional<ObjectObservation> ObserveObject(const Detection& detection, const cv::Mat& depth_raw,
                                                double depth_factor, const PixelRays& rays,
-                                               const SemanticConfig& config) {
+                                               const SemanticConfig& config, const std::vector<OtherBox>& others) {
   if (depth_raw.empty() || depth_raw.type() != CV_16UC1 || depth_raw.size() != rays.size()) return std::nullopt;
   const cv::Rect image(0, 0, depth_raw.cols, depth_raw.rows);
   const cv::Rect2f& b = detection.box;
-  const cv::Rect full = cv::Rect(cv::Point(cvRound(b.x), cvRound(b.y)), cv::Point(cvRound(b.x + b.width), cvRound(b.y + b.height))) & image;
+  const cv::Rect full = PixelBox(b, 1.0, image);
   // Sec. III-E: the box is first reduced (its border holds background and
   // neighbours) and the depth of the object is taken there...
-  const double s = config.object_box_shrink;
-  const cv::Rect inner = cv::Rect(cv::Point(cvRound(b.x + b.width * (1 - s) / 2), cvRound(b.y + b.height * (1 - s) / 2)),
-                                  cv::Point(cvRound(b.x + b.width * (1 + s) / 2), cvRound(b.y + b.height * (1 + s) / 2))) &
-                         image;
+  const cv::Rect inner = PixelBox(b, config.object_box_shrink, image);
   if (inner.area() <= 0 || full.area() <= 0) return std::nullopt;
-  const auto sample = [&](const cv::Rect& r, int max_points, std::vector<cv::Point>& pixels, std::vector<double>& depths) {
-    const int step = std::max(1, static_cast<int>(std::sqrt(r.area() / (4.0 * max_points))));
-    for (int v = r.y; v < r.y + r.height; v += step) {
-      const std::uint16_t* d = depth_raw.ptr<std::uint16_t>(v);
-      for (int u = r.x; u < r.x + r.width; u += step) {
-        const double z = d[u] / depth_factor;
-        if (d[u] == 0 || z < config.depth_min || z > config.depth_max) continue;
-        pixels.emplace_back(u, v);
-        depths.push_back(z);
-      }
+  std::vector<OtherBox> overlapping;  // with a known depth
+  std::vector<cv::Rect2f> other_boxes;
+  for (const OtherBox& o : others) {
+    if (o.depth > 0 && (o.box & b).area() > 0) {
+      overlapping.push_back(o);
+      other_boxes.push_back(o.box);
     }
-  };
+  }
   std::vector<cv::Point> inner_pixels;
   std::vector<double> inner_depths;
-  sample(inner, config.object_max_points, inner_pixels, inner_depths);
+  SampleDepths(depth_raw, depth_factor, inner, config.object_max_points, config, inner_pixels, inner_depths);
   if (static_cast<int>(inner_depths.size()) < config.object_min_points) return std::nullopt;
-  const double median = Median(inner_depths);
-  std::vector<double> dev(inner_depths.size());
-  for (std::size_t i = 0; i < inner_depths.size(); ++i) dev[i] = std::abs(inner_depths[i] - median);
+  // ... away from the other boxes where possible: a chair half behind a table
+  // would take the table's depth.
+  const std::vector<double> own = UncoveredDepths(inner_pixels, inner_depths, other_boxes, config.object_min_points);
+  const double median = Median(own);
+  std::vector<double> dev(own.size());
+  for (std::size_t i = 0; i < own.size(); ++i) dev[i] = std::abs(own[i] - median);
   const double mad = std::max(Median(dev) * 1.4826, 0.01);  // 1 cm floor: a flat face has MAD ~ 0
   // ... then every depth of the original box is compared with it, and rejected
   // when too far (median / MAD: robust where the paper takes the mean).
   std::vector<cv::Point> pixels;
   std::vector<double> depths;
-  sample(full, 2 * config.object_max_points, pixels, depths);
+  SampleDepths(depth_raw, depth_factor, full, 2 * config.object_max_points, config, pixels, depths);
   std::vector<Eigen::Vector3f> points;
   for (std::size_t i = 0; i < depths.size(); ++i) {
     if (std::abs(depths[i] - median) > config.object_mad_factor * mad) continue;
+    // Where another box covers the pixel, it goes to the object whose depth is nearer.
+    const bool theirs = std::any_of(overlapping.begin(), overlapping.end(), [&](const OtherBox& o) {
+      return InBox(pixels[i], o.box) && std::abs(depths[i] - o.depth) < std::abs(depths[i] - median);
+    });
+    if (theirs) continue;
     const cv::Vec2f& r = rays.at(pixels[i].x, pixels[i].y);
     const auto z = static_cast<float>(depths[i]);
     points.emplace_back(r[0] * z, r[1] * z, z);

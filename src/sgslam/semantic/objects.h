@@ -1,6 +1,8 @@
 // 3-D semantic objects from 2-D detections and depth (paper Sec. III-E): for every
 // detection of a static class in a keyframe, the box is shrunk towards its centre,
-// depths far from the median (in MADs) are dropped, 3-D outliers removed, and the
+// depths far from the median (in MADs) are dropped, where another box of the frame
+// overlaps, pixels nearer that box's object depth go to it (occlusion; the paper
+// does not say), 3-D outliers removed, and the
 // samples kept in the keyframe's camera frame. The database merges an observation
 // into an object of the same class whose box overlaps it (3-D IoU, or one centroid
 // inside the other's box grown by a margin), else starts a new object, unless the
@@ -43,10 +45,26 @@ struct ObjectObservation {
 // Camera-frame point -> raw (distorted) pixel, for checking boxes across views.
 using ProjectFn = std::function<Eigen::Vector2d(const Eigen::Vector3d& p_c)>;
 
+// Another detection of the same frame and the depth of its object: where the two
+// boxes overlap, a pixel nearer that depth than this object's belongs to the other
+// object (an occluder in front of this one, or an object behind it).
+struct OtherBox {
+  cv::Rect2f box;
+  double depth = 0;  // m; 0: unknown, the box is ignored
+};
+
+// The object depth of every detection of a frame: the median depth over the inner
+// `object_box_shrink` of its box, leaving out pixels that other boxes cover (the
+// occluder would otherwise set the depth of a half-hidden object); over the whole
+// inner box when the others cover nearly all of it. 0 where no depth is valid.
+std::vector<double> ObjectDepths(const std::vector<Detection>& detections, const cv::Mat& depth_raw,
+                                 double depth_factor, const SemanticConfig& config);
+
 // The observation a detection gives, or none with too few valid depth samples.
+// `others`: the frame's other boxes (see OtherBox), none by default.
 std::optional<ObjectObservation> ObserveObject(const Detection& detection, const cv::Mat& depth_raw,
                                                double depth_factor, const PixelRays& rays,
-                                               const SemanticConfig& config);
+                                               const SemanticConfig& config, const std::vector<OtherBox>& others = {});
 
 struct ObjectEstimate {
   int id = 0;
