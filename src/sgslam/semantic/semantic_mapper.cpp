@@ -201,15 +201,17 @@ void SemanticMapper::ProcessKeyFrame(const SemanticInput& input, const std::vect
   stage.Restart();
   // Every box of the frame, people's too, may hide part of another (computed only
   // when some detection gives an object: most keyframes of a dynamic scene have none).
-  const bool any_object = std::any_of(f.detections.begin(), f.detections.end(), [&](const Detection& d) {
+  // Sec. III-E: every detection except those of dynamic objects (people, dogs).
+  const auto gives_object = [&](const Detection& d) {
     return !classes_.is_dynamic(d.class_name) && d.score >= c.object_min_score;
-  });
+  };
   const std::vector<double> object_depths =
-      any_object ? ObjectDepths(f.detections, input.depth, config_.camera.depth_factor, c) : std::vector<double>();
+      std::any_of(f.detections.begin(), f.detections.end(), gives_object)
+          ? ObjectDepths(f.detections, input.depth, config_.camera.depth_factor, c)
+          : std::vector<double>();
   for (std::size_t i = 0; i < f.detections.size(); ++i) {
     const Detection& d = f.detections[i];
-    // Sec. III-E: every detection except those of dynamic objects (people, dogs).
-    if (classes_.is_dynamic(d.class_name) || d.score < c.object_min_score) continue;
+    if (!gives_object(d)) continue;
     std::vector<OtherBox> others;
     for (std::size_t j = 0; j < f.detections.size(); ++j)
       if (j != i) others.push_back({f.detections[j].box, object_depths[j]});
