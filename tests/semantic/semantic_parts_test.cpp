@@ -170,6 +170,34 @@ TEST(ObserveObject, AnOccluderInItsOwnBoxDoesNotSetTheDepth) {
   EXPECT_NEAR(unknown->points_c.front().z(), 1.2f, 1e-3);
 }
 
+// A plant: leaves at 2 m over the upper part of the box, a narrower pot 15 cm
+// further back below them, the wall at 4 m. The leaves' flat face gives a MAD of
+// the 1 cm floor, and a 3-MAD band alone would cut the pot off; the band of the
+// box's width (0.48 m here) keeps it and still drops the wall.
+TEST(ObserveObject, ARecessedPartWithinTheBoxWidthBelongsToTheObject) {
+  const Camera cam(PinholeCamera());
+  const PixelRays rays(cam);
+  cv::Mat depth(480, 640, CV_16UC1, cv::Scalar(4 * 5000));
+  depth(cv::Rect(200, 150, 100, 108)).setTo(2 * 5000);     // leaves, rows 150-257
+  depth(cv::Rect(225, 258, 50, 72)).setTo(2.15 * 5000);  // pot, rows 258-329
+  const Detection d{58, "pottedplant", 0.8f, cv::Rect2f(190, 140, 120, 200)};
+  const auto lowest = [&](const SemanticConfig& c) {
+    const auto obs = ObserveObject(d, depth, 5000, rays, c);
+    EXPECT_TRUE(obs.has_value());
+    float y_max = -1e9f;
+    for (const auto& p : obs ? obs->points_c : std::vector<Eigen::Vector3f>{}) {
+      EXPECT_LT(p.z(), 2.2f) << "wall point kept";
+      y_max = std::max(y_max, p.y());
+    }
+    return y_max;
+  };
+  SemanticConfig c;
+  ASSERT_EQ(c.object_depth_band_width, 1.0);
+  EXPECT_NEAR(lowest(c), (329 - 239.5) / 500.0 * 2.15, 0.03);  // the pot's bottom row
+  c.object_depth_band_width = 0;
+  EXPECT_NEAR(lowest(c), (257 - 239.5) / 500.0 * 2.0, 0.03);  // the leaves' bottom row
+}
+
 TEST(FitPlanes, FindsFloorAndWallButNotTheClutterBetween) {
   std::vector<Eigen::Vector3f> pts;
   for (int i = 0; i < 20; ++i)

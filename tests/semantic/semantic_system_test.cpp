@@ -162,10 +162,9 @@ class SemanticSystem : public ::testing::Test {
 // The bar is 5 cm centroid and 10 cm size error. Surface samples from one
 // side of the room cannot see an object's back, so the test holds the system to
 // what it does reach (seed 1, background planes removed; measured worst case in
-// brackets): every object found once with its class, centroids within 0.15 m
-// [0.12], every axis of the size within 0.15 m [0.19: a pot's base lost with the
-// floor] for at least 3/4 of the objects, heights within 10 cm for 3/4.
-// Tighten as the estimate improves.
+// brackets): every object found once with its class, centroids within 0.10 m
+// [0.064], every axis of the size within 0.10 m [0.090] for at least 3/4 of the
+// objects, heights within 10 cm for all [0.088]. Tighten as the estimate improves.
 TEST_F(SemanticSystem, ObjectsPresetGivesEveryObjectOnceWithItsClassAndHeight) {
   const fs::path seq = Generate("objects");
   const Result r = RunOn(seq);
@@ -194,14 +193,14 @@ TEST_F(SemanticSystem, ObjectsPresetGivesEveryObjectOnceWithItsClassAndHeight) {
     std::printf("  %-12s obs %3d  centroid error %.3f m  size error %.3f %.3f %.3f m\n", o.class_name.c_str(),
                 o.observations, best, std::abs(o.size.x() - best_size.x()), std::abs(o.size.y() - best_size.y()),
                 std::abs(o.size.z() - best_size.z()));
-    EXPECT_LT(best, 0.15) << o.class_name << " " << o.id << ": centroid " << o.centroid.transpose();
+    EXPECT_LT(best, 0.10) << o.class_name << " " << o.id << ": centroid " << o.centroid.transpose();
     height_ok += std::abs(o.size.z() - best_size.z()) < 0.10;
-    size_ok += (o.size - best_size).cwiseAbs().maxCoeff() < 0.15;
+    size_ok += (o.size - best_size).cwiseAbs().maxCoeff() < 0.10;
   }
   for (const auto& [id, n] : matched) EXPECT_EQ(n, 1) << "ground-truth object " << id << " found " << n << " times";
   EXPECT_GE(exported, static_cast<int>(gt["objects"].size()) - 2) << "objects missing";
-  EXPECT_GE(height_ok, exported * 3 / 4) << "heights within 10 cm";
-  EXPECT_GE(size_ok, exported * 3 / 4) << "sizes within 15 cm on every axis";
+  EXPECT_EQ(height_ok, exported) << "heights within 10 cm";
+  EXPECT_GE(size_ok, exported * 3 / 4) << "sizes within 10 cm on every axis";
 }
 
 TEST_F(SemanticSystem, WalkersLeaveNoTraceInTheCloudAndTheOctoMap) {

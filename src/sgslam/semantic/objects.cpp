@@ -152,13 +152,17 @@ std::optional<ObjectObservation> ObserveObject(const Detection& detection, const
   for (std::size_t i = 0; i < own.size(); ++i) dev[i] = std::abs(own[i] - median);
   const double mad = std::max(Median(dev) * 1.4826, 0.01);  // 1 cm floor: a flat face has MAD ~ 0
   // ... then every depth of the original box is compared with it, and rejected
-  // when too far (median / MAD: robust where the paper takes the mean).
+  // when too far (median / MAD: robust where the paper takes the mean), or
+  // further than a share of the box's width at that depth (see SemanticConfig).
+  const int row = full.y + full.height / 2;
+  const double width_m = std::abs(rays.at(full.x + full.width - 1, row)[0] - rays.at(full.x, row)[0]) * median;
+  const double band = std::max(config.object_mad_factor * mad, config.object_depth_band_width * width_m);
   std::vector<cv::Point> pixels;
   std::vector<double> depths;
   SampleDepths(depth_raw, depth_factor, full, 2 * config.object_max_points, config, pixels, depths);
   std::vector<Eigen::Vector3f> points;
   for (std::size_t i = 0; i < depths.size(); ++i) {
-    if (std::abs(depths[i] - median) > config.object_mad_factor * mad) continue;
+    if (std::abs(depths[i] - median) > band) continue;
     // Where another box covers the pixel, it goes to the object whose depth is nearer.
     const bool theirs = std::any_of(overlapping.begin(), overlapping.end(), [&](const OtherBox& o) {
       return InBox(pixels[i], o.box) && std::abs(depths[i] - o.depth) < std::abs(depths[i] - median);

@@ -1,16 +1,16 @@
 // 3-D semantic objects from 2-D detections and depth (paper Sec. III-E): for every
 // detection of a static class in a keyframe, the box is shrunk towards its centre,
-// depths far from the median (in MADs) are dropped, pixels where another box of the
-// frame overlaps and whose depth is nearer that box's object go to it (occlusion: the
-// paper does not say), 3-D outliers are removed, and the samples are kept in the
-// keyframe's camera frame. The database merges an observation into an object of
-// the same class whose box overlaps it (3-D IoU, or one centroid inside the other's
-// box grown by a margin), else starts a new object, unless the box is cut by the
-// image edge: such a partial view may only join an object. Each object keeps its
-// observations anchored to their keyframes: its centroid and size are recomputed
-// from them with the keyframes' current poses (robust: 2nd-98th percentile extents
-// of the samples that the other views' boxes agree with, see CarvedPoints), so
-// bundle adjustment moves objects with the map.
+// depths far from the median (in MADs, at least a share of the box's width) are
+// dropped, pixels where another box of the frame overlaps and whose depth is nearer
+// that box's object go to it (occlusion: the paper does not say), 3-D outliers are
+// removed, and the samples are kept in the keyframe's camera frame. The database
+// merges an observation into an object of the same class whose box overlaps it (3-D
+// IoU, or one centroid inside the other's box grown by a margin), else starts a new
+// object, unless the box is cut by the image edge: such a partial view may only join
+// an object. Each object keeps its observations anchored to their keyframes: its
+// centroid and size are recomputed from them with the keyframes' current poses
+// (robust: 2nd-98th percentile extents of the samples that the other views' boxes
+// agree with, see CarvedPoints), so bundle adjustment moves objects with the map.
 //
 // Threading: not thread-safe; the semantic mapping thread owns the database.
 #pragma once

@@ -42,6 +42,7 @@ void SemanticConfig::Validate(ConfigChecker& c) const {
   c.Check(object_box_shrink > 0.0 && object_box_shrink <= 1.0, "object_box_shrink", object_box_shrink,
           "must be in (0, 1]");
   c.InRange("object_mad_factor", object_mad_factor, 0.5, 100.0);
+  c.InRange("object_depth_band_width", object_depth_band_width, 0.0, 10.0);
   c.InRange("object_min_points", object_min_points, 3, 100000);
   c.Check(object_max_points >= object_min_points, "object_max_points", object_max_points,
           "must be >= object_min_points");

@@ -84,7 +84,15 @@ struct SemanticConfig {
   int octomap_stride = 16;           // px, pixel step of the free-space rays cast per keyframe (hits: every cloud point)
   // 3-D semantic objects.
   double object_box_shrink = 0.6;    // share of the box (centred) whose depths form the object
-  double object_mad_factor = 3.0;    // depths further than this many MADs from the median are dropped
+  double object_mad_factor = 3.0;    // depths further than this many MADs from the median are dropped ...
+  // ... unless within this share of the box's width (in metres, at the median
+  // depth) of it: a flat front face has a MAD of a centimetre and would cut off
+  // whatever lies behind it (a pot under its leaves, a chair's seat behind its
+  // back); an object is about as deep as it is wide, and the background behind
+  // it goes with the planes and the carving below. Objects preset, seeds 1-6:
+  // centroids within 5 cm 16 -> 23 of 40, sizes within 10 cm 22 -> 28 (0.5: 19 / 26,
+  // 0.75: 22 / 28, 1.5 and 2: as 1). 0: the MAD band alone.
+  double object_depth_band_width = 1.0;
   int object_min_points = 30;        // depth samples needed for an observation
   int object_max_points = 400;       // samples kept per observation (anchored to its keyframe)
   double object_min_score = 0.3;     // detections below this score are not used for objects
@@ -145,6 +153,7 @@ struct SemanticConfig {
     v("octomap_stride", octomap_stride, "px, pixel step of inserted rays");
     v("object_box_shrink", object_box_shrink, "share of the box used for objects");
     v("object_mad_factor", object_mad_factor, "depth outlier limit in MADs");
+    v("object_depth_band_width", object_depth_band_width, "depth outlier limit at least this share of the box width");
     v("object_min_points", object_min_points, "depth samples for an observation");
     v("object_max_points", object_max_points, "samples kept per observation");
     v("object_min_score", object_min_score, "detection score for objects");
