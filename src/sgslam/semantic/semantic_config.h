@@ -101,12 +101,19 @@ struct SemanticConfig {
   int object_border = 3;             // px, a box this close to the image edge is cut off: it may join an object, not start one
   int object_min_observations = 2;   // objects seen fewer times are not exported (one view is too little evidence)
   // Background planes: floor and walls fitted in a ring around the box and
-  // removed inside it (they sit at the object's depth, so the MAD band keeps them).
+  // removed inside it (they sit at the object's depth, so the depth band keeps them).
   // planes fitted per box; 0 turns the step off. 3: floor and both walls of a
   // corner (objects preset, seeds 1-6: worst centroid error 0.54 -> 0.24 m with
   // 3 planes and PlaneFitOptions::min_share 0.12, from 2 and 0.25)
   int object_background_planes = 3;
-  double object_ring = 0.15;              // ring width as a share of the box size (at least 6 px)
+  // Ring width as a share of the box size (at least 6 px). A wide ring holds
+  // enough of both walls of a corner for each to make a plane: seeds 1-6 (with
+  // the width band above), 0.15 -> 0.3: centroids within 5 cm 23 -> 27 of 40,
+  // sizes within 10 cm 28 -> 28, worst centroid 0.23 -> 0.13 m, worst size
+  // 0.35 -> 0.23 m (a chair in a corner took the walls behind it in). 0.4 and
+  // 0.5 gave 27 / 30 and 27 / 29, but at 0.4 dyn_dev's laptop took in another
+  // view and grew from 1.1 x 0.8 to 1.9 x 2.2 m; at 0.3 its objects stay within 4 cm.
+  double object_ring = 0.3;
   double object_plane_tolerance = 0.01;   // m, distance to a plane counted as on it ...
   double object_plane_tolerance_quadratic = 0.002;  // 1/m, ... plus this times the box depth^2 (Kinect noise ~ depth^2: 2-3 sigma)
   double object_plane_max_share = 0.8;    // a plane holding more of the box points is the object's own face: kept
