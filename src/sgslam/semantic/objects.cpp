@@ -211,15 +211,15 @@ std::optional<ObjectObservation> ObserveObject(const Detection& detection, const
   return o;
 }
 
-ObjectDatabase::Box ObjectDatabase::BoxOf(const std::vector<Eigen::Vector3d>& points) {
+ObjectDatabase::Box ObjectDatabase::BoxOf(const std::vector<Eigen::Vector3d>& points) const {
   Box b{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
   if (points.empty()) return b;
   for (int a = 0; a < 3; ++a) {
     std::vector<double> c;
     c.reserve(points.size());
     for (const auto& p : points) c.push_back(p[a]);
-    b.min[a] = Percentile(c, 0.02);
-    b.max[a] = Percentile(c, 0.98);
+    b.min[a] = Percentile(c, config_.object_extent_trim);
+    b.max[a] = Percentile(c, 1.0 - config_.object_extent_trim);
   }
   return b;
 }

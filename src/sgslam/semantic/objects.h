@@ -9,7 +9,7 @@
 // object, unless the box is cut by the image edge: such a partial view may only join
 // an object. Each object keeps its observations anchored to their keyframes: its
 // centroid and size are recomputed from them with the keyframes' current poses
-// (robust: 2nd-98th percentile extents of the samples that the other views' boxes
+// (robust: 1st-99th percentile extents of the samples that the other views' boxes
 // agree with, see CarvedPoints), so bundle adjustment moves objects with the map.
 //
 // Threading: not thread-safe; the semantic mapping thread owns the database.
@@ -104,7 +104,8 @@ class ObjectDatabase {
     std::vector<ObjectObservation> observations;
     Box box;  // world frame, poses at insertion: association only
   };
-  static Box BoxOf(const std::vector<Eigen::Vector3d>& points);
+  // Percentile extents (object_extent_trim cut off at each end of each axis).
+  Box BoxOf(const std::vector<Eigen::Vector3d>& points) const;
   // The object's samples in the world frame (T_w_c: per observation) that the other views agree with: a
   // sample is kept when, among the other observations whose image it projects
   // into, at least half have it inside their box (a visual hull of the boxes: the

@@ -43,6 +43,7 @@ void SemanticConfig::Validate(ConfigChecker& c) const {
           "must be in (0, 1]");
   c.InRange("object_mad_factor", object_mad_factor, 0.5, 100.0);
   c.InRange("object_depth_band_width", object_depth_band_width, 0.0, 10.0);
+  c.InRange("object_extent_trim", object_extent_trim, 0.0, 0.25);
   c.InRange("object_min_points", object_min_points, 3, 100000);
   c.Check(object_max_points >= object_min_points, "object_max_points", object_max_points,
           "must be >= object_min_points");

@@ -99,6 +99,12 @@ struct SemanticConfig {
   double object_merge_iou = 0.1;     // 3-D IoU above which an observation joins an object of its class
   double object_merge_margin = 0.1;  // m, association boxes are grown by this for the centre-inside test
   int object_border = 3;             // px, a box this close to the image edge is cut off: it may join an object, not start one
+  // Share of the samples cut off at each end of each axis of an object's extent
+  // (outliers the carving left). A thin leg or a pot's base is a small share of
+  // the samples: objects preset seeds 1-6, 0.02 -> 0.01: centroids within 5 cm
+  // 27 -> 31 of 40, sizes within 10 cm 28 -> 34, worst centroid 0.13 -> 0.12 m,
+  // worst size 0.23 -> 0.20 m (0.005: 32 / 32, but worst 0.18 / 0.33 m).
+  double object_extent_trim = 0.01;
   int object_min_observations = 2;   // objects seen fewer times are not exported (one view is too little evidence)
   // Background planes: floor and walls fitted in a ring around the box and
   // removed inside it (they sit at the object's depth, so the depth band keeps them).
@@ -167,6 +173,7 @@ struct SemanticConfig {
     v("object_merge_iou", object_merge_iou, "3-D IoU to merge an observation");
     v("object_merge_margin", object_merge_margin, "m, association box growth");
     v("object_border", object_border, "px, boxes this close to the edge only join objects");
+    v("object_extent_trim", object_extent_trim, "share of samples cut at each end of an object's extent");
     v("object_min_observations", object_min_observations, "observations to export an object");
     v("object_background_planes", object_background_planes, "background planes removed per box (0: off)");
     v("object_ring", object_ring, "ring around the box for background planes, share of box size");
