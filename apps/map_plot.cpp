@@ -17,8 +17,17 @@ void WriteTopView(const std::filesystem::path& path, const std::vector<Eigen::Ve
   for (const auto& p : cloud) xs.push_back(p.x()), zs.push_back(p.z());
   for (const auto& s : trajectory) xs.push_back(s.T_w_c.translation().x()), zs.push_back(s.T_w_c.translation().z());
   if (xs.empty()) xs = {-1, 1}, zs = {-1, 1};
-  const double x0 = Percentile(xs, 0.01) - 0.2, x1 = Percentile(xs, 0.99) + 0.2;
-  const double z0 = Percentile(zs, 0.01) - 0.2, z1 = Percentile(zs, 0.99) + 0.2;
+  double x0 = Percentile(xs, 0.01) - 0.2, x1 = Percentile(xs, 0.99) + 0.2;
+  double z0 = Percentile(zs, 0.01) - 0.2, z1 = Percentile(zs, 0.99) + 0.2;
+  // Every object box whole, with room above it for its label (the cloud's 1-99
+  // percentiles can cut a box at the edge of the map).
+  for (const ObjectEstimate& o : objects) {
+    if (!o.exported) continue;
+    x0 = std::min(x0, o.centroid.x() - o.size.x() / 2 - 0.1);
+    x1 = std::max(x1, o.centroid.x() + o.size.x() / 2 + 0.1);
+    z0 = std::min(z0, o.centroid.z() - o.size.z() / 2 - 0.1);
+    z1 = std::max(z1, o.centroid.z() + o.size.z() / 2 + 0.3);
+  }
   const int width = 900;
   const double scale = width / std::max(x1 - x0, 1e-3);
   const int height = std::clamp(static_cast<int>((z1 - z0) * scale), 200, 2000);
