@@ -17,6 +17,7 @@
 #include "sgslam/config/yaml_io.h"
 #include "sgslam/eval/ate.h"
 #include "sgslam/eval/mask_score.h"
+#include "sgslam/io/detections_file.h"
 #include "sgslam/io/frame_stream.h"
 #include "sgslam/io/ply.h"
 #include "sgslam/io/text_file.h"
@@ -89,6 +90,7 @@ RunSummary RunSequence(const RunOptions& o) {
   std::unique_ptr<Detector> detector;
   const bool uses_boxes = config.dynamic.mode == "semantic" || config.dynamic.mode == "sg";
   if (uses_boxes) detector = MakeDetector(config.detector, dataset_dir);
+  const bool has_detector = detector != nullptr;
   SlamSystem system(config, o.sequential, std::move(detector));
   spdlog::info("mode {}, detector: {}", config.dynamic.mode, system.DescribeDetector());
   std::vector<FrameReport> reports;
@@ -151,17 +153,26 @@ RunSummary RunSequence(const RunOptions& o) {
 
   std::ostringstream csv;
   csv << "index,timestamp,state,features,kept,rejected_geometry,rejected_semantics,rejected_depth,detections,"
-         "detector_late,matches,inliers,trusted,keyframe,extract_ms,detector_ms,wait_ms,reject_ms,track_ms,total_ms\n";
+         "carried,detector_late,matches,inliers,trusted,keyframe,extract_ms,detector_ms,wait_ms,reject_ms,track_ms,total_ms\n";
   for (const auto& r : reports) {
     csv << r.index << ',' << FormatTimestamp(r.t) << ',' << ToString(r.state) << ',' << r.features << ',' << r.kept
         << ',' << r.rejected_geometry << ',' << r.rejected_semantics << ',' << r.rejected_depth << ','
-        << r.detections << ',' << (r.detector_late ? 1 : 0) << ',' << r.matches << ',' << r.inliers << ',' << r.trusted << ','
+        << r.detections << ',' << r.carried << ',' << (r.detector_late ? 1 : 0) << ',' << r.matches << ',' << r.inliers << ',' << r.trusted << ','
         << (r.keyframe ? 1 : 0) << ',' << r.extract_ms << ',' << r.detector_ms << ',' << r.wait_ms << ','
         << r.reject_ms << ',' << r.track_ms << ',' << r.total_ms << '\n';
     s.tracked += r.state == TrackState::kOk;
     s.lost += r.state == TrackState::kLost;
   }
   WriteFileAtomically(s.out / "frames.csv", csv.str());
+  if (has_detector) {
+    // In the format of the file backend (io/detections_file.h): a later run can
+    // replay them with detector.backend: file, detector.detections_file: this file.
+    std::vector<FrameDetections> boxes;
+    for (auto& r : reports) {
+      if (!r.boxes.empty()) boxes.emplace_back(r.t, std::move(r.boxes));
+    }
+    WriteDetectionsFile(s.out / "detections.txt", boxes);
+  }
   const Trajectory trajectory = system.FrameTrajectory();
   WriteTumTrajectory(s.out / "trajectory.txt", trajectory);
   WriteTumTrajectory(s.out / "keyframes.txt", system.KeyFrameTrajectory());

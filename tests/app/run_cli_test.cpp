@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "sgslam/io/detections_file.h"
 #include "support/test_support.h"
 #include "support/tiny_dataset.h"
 
@@ -103,6 +104,41 @@ TEST(RunCommand, TruthMasksReplaceTheVerdicts) {
   ExpectFailure({"run", "--dataset", (tmp / "walk").string(), "--out", (tmp / "out2").string(), "--mode", "none",
                  "--config", (tmp / "bad.yaml").string()},
                 1, {"dynamic.truth_masks", "nowhere"});
+}
+
+// A run with a detector saves the boxes it got as detections.txt, in the format of
+// the file backend, so a later run (or another tool) can replay them; frames.csv
+// counts them and the boxes carried over missed frames apart.
+TEST(RunCommand, DetectionsOfTheRunAreSavedForReplay) {
+  TempDir tmp;
+  const auto synth = RunSgslam({"synth", "--preset", "walkers", "--frames", "12", "--out", (tmp / "walk").string()});
+  ASSERT_EQ(synth.exit_code, 0) << synth.output;
+  const auto r = RunSgslam(
+      {"run", "--dataset", (tmp / "walk").string(), "--out", (tmp / "out").string(), "--mode", "sg", "--sequential"});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const auto saved = ReadDetectionsFile(tmp / "out" / "detections.txt");
+  const auto given = ReadDetectionsFile(tmp / "walk" / "detections.txt");
+  ASSERT_FALSE(given.empty());
+  ASSERT_EQ(saved.size(), given.size());
+  for (const auto& [t, boxes] : given) {
+    ASSERT_EQ(saved.count(t), 1u);
+    const auto& s = saved.at(t);
+    ASSERT_EQ(s.size(), boxes.size());
+    for (std::size_t i = 0; i < s.size(); ++i) {
+      EXPECT_EQ(s[i].class_name, boxes[i].class_name);
+      EXPECT_EQ(s[i].box, boxes[i].box);
+      EXPECT_EQ(s[i].carried, 0);
+    }
+  }
+  std::ifstream csv(tmp / "out" / "frames.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_NE(header.find(",detections,carried,"), std::string::npos) << header;
+  // Without a detector there is nothing to save.
+  const auto none = RunSgslam(
+      {"run", "--dataset", (tmp / "walk").string(), "--out", (tmp / "out2").string(), "--mode", "none", "--sequential"});
+  ASSERT_EQ(none.exit_code, 0) << none.output;
+  EXPECT_FALSE(fs::exists(tmp / "out2" / "detections.txt"));
 }
 
 TEST(RunCommand, UsageErrorsExitWith2) {

@@ -13,6 +13,7 @@ struct Detection {
   std::string class_name;
   float score = 0.f;
   cv::Rect2f box;  // px; x, y: top-left corner, the box covers [x, x + width) x [y, y + height)
+  int carried = 0;  // 0: found in this frame; n: a missed moving object's box carried n frames (dynamic/box_carry.h)
 };
 
 }  // namespace sgslam

@@ -21,6 +21,9 @@ void DynamicConfig::Validate(ConfigChecker& c) const {
   c.InRange("min_static_pairs", min_static_pairs, 15, 100000);  // OpenCV's RANSAC needs 15 pairs
   c.InRange("max_box_area", max_box_area, 0.0, 1.0);
   c.InRange("box_depth_band", box_depth_band, 0.0, 10.0);
+  c.InRange("carry_frames", carry_frames, 0, 30);
+  c.InRange("carry_iou", carry_iou, 0.0, 1.0);
+  c.InRange("carry_min_motion", carry_min_motion, 0.0, 1.0);
   c.InRange("min_kept_ratio", min_kept_ratio, 0.0, 1.0);
   c.InRange("relax_factor", relax_factor, 1.0, 10.0);
   c.InRange("relax_steps", relax_steps, 0, 20);

@@ -131,11 +131,22 @@ RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>
   RejectionResult r;
   r.eps_used = config.eps_std;
   r.ms.flow = pairs.ms;
-  const std::vector<double> w =
-      mode == Mode::kSg && depth != nullptr
-          ? KeypointWeightsWithDepth(keys, detections, weight, depth->cur_depth, depth->depth_factor,
-                                     config.box_depth_band)
-          : KeypointWeights(keys, detections, weight);
+  const auto weights_of = [&](const std::vector<Detection>& boxes) {
+    return mode == Mode::kSg && depth != nullptr
+               ? KeypointWeightsWithDepth(keys, boxes, weight, depth->cur_depth, depth->depth_factor,
+                                          config.box_depth_band)
+               : KeypointWeights(keys, boxes, weight);
+  };
+  const std::vector<double> w = weights_of(detections);
+  // Boxes carried over a missed detection (box_carry.h) weigh their keypoints but do
+  // not take pairs out of the F and PnP fits: where they have drifted off their
+  // object they would leave the fits to what moves (dyn_dev frames 68-72: an
+  // unknown moving box then carried F and the static pairs were rejected).
+  std::vector<Detection> fresh;
+  for (const Detection& d : detections) {
+    if (d.carried == 0) fresh.push_back(d);
+  }
+  const std::vector<double> w_fit = fresh.size() == detections.size() ? w : weights_of(fresh);
   r.keypoints.resize(keys.size());
   for (size_t i = 0; i < keys.size(); ++i) r.keypoints[i].weight = w[i];
   const int min_kept = static_cast<int>(std::ceil(config.min_kept_ratio * static_cast<double>(keys.size())));
@@ -168,7 +179,7 @@ RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>
     if (!valid[i]) continue;
     p1.emplace_back(pairs.prev_un[i].x, pairs.prev_un[i].y);
     p2.emplace_back(pairs.cur_un[i].x, pairs.cur_un[i].y);
-    const bool pref = (mode != Mode::kSg || w[i] <= 1.0) && !(prior != nullptr && prior->Dynamic(flow.prev[i]));
+    const bool pref = (mode != Mode::kSg || w_fit[i] <= 1.0) && !(prior != nullptr && prior->Dynamic(flow.prev[i]));
     preferred.push_back(pref);
     use_motion[i] = pref;
   }

@@ -17,7 +17,9 @@ DynamicStage::DynamicStage(const Config& config, std::unique_ptr<Detector> detec
       mode_(dynamic::ParseMode(config.dynamic.mode)),
       wants_detector_(mode_ == dynamic::Mode::kSemantic || mode_ == dynamic::Mode::kSg),
       camera_(std::make_shared<Camera>(config.camera)),
-      classes_(config.detector) {
+      classes_(config.detector),
+      carrier_(config.dynamic.carry_frames, config.dynamic.carry_iou,
+               [table = ClassTable(config.detector)](const std::string& name) { return table.is_dynamic(name); }) {
   if (camera_->has_distortion() && config.dynamic.undistort_pairs && mode_ != dynamic::Mode::kNone &&
       mode_ != dynamic::Mode::kSemantic) {
     undistort_ = std::make_shared<const dynamic::UndistortTable>(
@@ -103,6 +105,28 @@ int DynamicStage::ApplyMultiFrameChecks(const std::vector<cv::KeyPoint>& keys,
   return rejected;
 }
 
+std::vector<bool> DynamicStage::ShowMotion(const std::vector<cv::KeyPoint>& keys, const dynamic::RejectionResult& r,
+                                           const std::vector<Detection>& boxes) const {
+  // Semantic mode has no geometry to ask, so it carries nothing: carrying every box
+  // there rejected so much that dyn_dev kept only 78 of 300 frames tracked.
+  if (mode_ == dynamic::Mode::kSemantic) return std::vector<bool>(boxes.size(), false);
+  constexpr int kMinKeypoints = 5;  // fewer in a box: no verdict, not carried
+  const DynamicConfig& c = config_.dynamic;
+  std::vector<bool> moving(boxes.size(), false);
+  for (std::size_t b = 0; b < boxes.size(); ++b) {
+    int inside = 0, evidence = 0;
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+      if (!boxes[b].box.contains(keys[i].pt)) continue;
+      ++inside;
+      // Motion the box's weight did not make: eq. (4) beyond eps_std itself, or the RGB-D check.
+      const dynamic::KeypointVerdict& v = r.keypoints[i];
+      evidence += v.why == dynamic::Why::kDepth || (std::isfinite(v.distance) && v.distance >= c.eps_std);
+    }
+    moving[b] = inside >= kMinKeypoints && evidence >= c.carry_min_motion * inside;
+  }
+  return moving;
+}
+
 DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, const cv::Mat& depth_raw,
                                    const std::vector<cv::KeyPoint>& keys, const std::optional<SE3>& T_cur_prev) {
   DynamicOutcome out;
@@ -146,6 +170,10 @@ DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, 
     } else {
       out.detector_late = true;  // carry on geometry-only for this frame
     }
+    // Late or not, the moving objects of the last frames are still about.
+    std::vector<Detection> carried = carrier_.Carry(out.detections, pairs.cur, pairs.flow, gray.size());
+    out.carried = static_cast<int>(carried.size());
+    out.detections.insert(out.detections.end(), carried.begin(), carried.end());
   }
 
   const Stopwatch watch;
@@ -194,6 +222,7 @@ DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, 
     out.rejected_depth = r.rejected_depth;
     out.judged = true;
     prior_ = dynamic::MakeDynamicPrior(keys, r, gray.size(), config_.dynamic.prior_cell);
+    if (worker_) carrier_.Remember(out.detections, ShowMotion(keys, r, out.detections));
   } else {
     out.kept = static_cast<int>(keys.size());
   }

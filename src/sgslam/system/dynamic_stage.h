@@ -11,7 +11,9 @@
 // multi-frame track check (track_memory.h) rejects kept keypoints whose track moved
 // over several frames, track_rescue keeps geometry-rejected keypoints in dynamic
 // boxes whose track stayed put, and unjudged keypoints among rejected neighbours
-// are rejected (neighbours.h); the fallback's minimum always stays kept. The
+// are rejected (neighbours.h); the fallback's minimum always stays kept. In sg,
+// the boxes of moving objects that showed motion are carried over the next frames
+// where the detector misses them (dynamic.carry_frames, box_carry.h). The
 // current LK pyramid is kept as the next frame's previous one, so each image's
 // pyramid is built once.
 //
@@ -31,6 +33,7 @@
 #include "sgslam/detection/detection.h"
 #include "sgslam/detection/detection_worker.h"
 #include "sgslam/detection/detector.h"
+#include "sgslam/dynamic/box_carry.h"
 #include "sgslam/dynamic/rejection.h"
 #include "sgslam/dynamic/track_memory.h"
 #include "sgslam/dynamic/undistort_table.h"
@@ -41,7 +44,8 @@ class Camera;
 
 struct DynamicOutcome {
   std::vector<std::uint8_t> dynamic;  // per keypoint: 1 = rejected (never tracked nor mapped)
-  std::vector<Detection> detections;  // of this frame (empty without a detector or when late)
+  std::vector<Detection> detections;  // of this frame (empty without a detector or when late), then the carried ones
+  int carried = 0;                    // of detections: missed moving-object boxes carried over (box_carry.h)
   int kept = 0, rejected_geometry = 0, rejected_semantics = 0, rejected_depth = 0;
   int rejected_track = 0;     // of rejected_depth: by the checks on top of Algorithm 1 (tracks, unjudged)
   bool judged = false;        // Algorithm 1 ran (not the first frame, mode not none)
@@ -82,6 +86,10 @@ class DynamicStage {
   int ApplyMultiFrameChecks(const std::vector<cv::KeyPoint>& keys, const std::vector<dynamic::TrackVerdict>& tracks,
                             dynamic::RejectionResult& r);
 
+  // Per box, whether its keypoints show motion of their own (carry_min_motion).
+  std::vector<bool> ShowMotion(const std::vector<cv::KeyPoint>& keys, const dynamic::RejectionResult& r,
+                               const std::vector<Detection>& boxes) const;
+
   const Config config_;
   const dynamic::Mode mode_;
   const bool wants_detector_;
@@ -93,6 +101,7 @@ class DynamicStage {
   cv::Mat prev_depth_;
   dynamic::DynamicPrior prior_;  // config.dynamic.prior_cell: the previous frame's rejections
   dynamic::TrackMemory tracks_;  // config.dynamic.track_check
+  dynamic::BoxCarrier carrier_;  // config.dynamic.carry_frames
 };
 
 }  // namespace sgslam

@@ -101,7 +101,9 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
   report.rejected_geometry = dyn.rejected_geometry;
   report.rejected_semantics = dyn.rejected_semantics;
   report.rejected_depth = dyn.rejected_depth;
-  report.detections = static_cast<int>(dyn.detections.size());
+  report.detections = static_cast<int>(dyn.detections.size()) - dyn.carried;
+  report.carried = dyn.carried;
+  report.boxes.assign(dyn.detections.begin(), dyn.detections.end() - dyn.carried);
   report.detector_late = dyn.detector_late;
   report.detector_ms = dyn.detector_ms;
   report.wait_ms = dyn.wait_ms;

@@ -37,6 +37,8 @@ struct FrameReport {
   // the epipolar test, by the boxes alone, by the RGB-D check.
   int kept = 0, rejected_geometry = 0, rejected_semantics = 0, rejected_depth = 0;
   int detections = 0;
+  int carried = 0;               // boxes of missed moving objects carried over (dynamic/box_carry.h)
+  std::vector<Detection> boxes;  // this frame's detections, without the carried (written to detections.txt)
   bool detector_late = false;  // tracking stopped waiting: geometry-only frame
   double detector_ms = 0;      // inference time of this frame (detector thread)
   double wait_ms = 0;          // time tracking waited for the detections
