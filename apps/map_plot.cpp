@@ -50,13 +50,24 @@ void WriteTopView(const std::filesystem::path& path, const std::vector<Eigen::Ve
              px(trajectory[i].T_w_c.translation().x(), trajectory[i].T_w_c.translation().z()), cv::Scalar(0, 0, 220), 2,
              cv::LINE_AA);
   }
+  std::vector<cv::Rect> labels;  // placed so far: a label that would overlap one moves down a line
   for (const ObjectEstimate& o : objects) {
     if (!o.exported) continue;
     const cv::Point a = px(o.centroid.x() - o.size.x() / 2, o.centroid.z() - o.size.z() / 2);
     const cv::Point b = px(o.centroid.x() + o.size.x() / 2, o.centroid.z() + o.size.z() / 2);
-    cv::rectangle(image, a, b, cv::Scalar(200, 120, 0), 2);
-    cv::putText(image, o.class_name, cv::Point(std::min(a.x, b.x), std::min(a.y, b.y) - 4), cv::FONT_HERSHEY_SIMPLEX,
-                0.5, cv::Scalar(200, 120, 0), 1, cv::LINE_AA);
+    // A partial object (never seen whole, objects.h) gets a thin outline and a '?'.
+    cv::rectangle(image, a, b, cv::Scalar(200, 120, 0), o.complete ? 2 : 1);
+    const std::string text = o.complete ? o.class_name : o.class_name + "?";
+    int baseline = 0;
+    const cv::Size size = cv::getTextSize(text, cv::FONT_HERSHEY_SIMPLEX, 0.5, 1, &baseline);
+    cv::Point at(std::min(a.x, b.x), std::min(a.y, b.y) - 4);
+    for (int tries = 0; tries < 8; ++tries) {
+      const cv::Rect r(at.x, at.y - size.height, size.width, size.height + baseline);
+      if (std::none_of(labels.begin(), labels.end(), [&](const cv::Rect& l) { return (l & r).area() > 0; })) break;
+      at.y += size.height + baseline + 2;
+    }
+    labels.emplace_back(at.x, at.y - size.height, size.width, size.height + baseline);
+    cv::putText(image, text, at, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(200, 120, 0), 1, cv::LINE_AA);
   }
   const int bar = static_cast<int>(scale);  // 1 m scale bar
   cv::line(image, {20, height - 20}, {20 + bar, height - 20}, cv::Scalar(0, 0, 0), 2);

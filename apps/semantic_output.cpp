@@ -16,13 +16,15 @@ void WriteObjectsJson(const std::filesystem::path& path, const std::vector<Objec
                     {"class_id", o.class_id},
                     {"confidence", o.confidence},
                     {"observations", o.observations},
+                    {"complete", o.complete},
                     {"centroid", {o.centroid.x(), o.centroid.y(), o.centroid.z()}},
                     {"size", {o.size.x(), o.size.y(), o.size.z()}}});
   }
   const nlohmann::json doc = {
       {"map_frame",
        "the camera frame of the first keyframe: x right, y down, z forward, metres (as trajectory.txt); "
-       "size is the axis-aligned extent in this frame, centroid the centre of that box"},
+       "size is the axis-aligned extent in this frame, centroid the centre of that box; "
+       "complete false: every view of the object was cut by the image border, the box covers the part seen"},
       {"objects", list}};
   WriteFileAtomically(path, doc.dump(2) + "\n");
 }
@@ -35,9 +37,9 @@ void PrintObjectTable(const std::vector<ObjectEstimate>& objects) {
   std::printf("  %4s  %-14s %5s %5s  %-26s %s\n", "id", "class", "conf", "obs", "centroid [m]", "size [m]");
   for (const ObjectEstimate& o : objects) {
     if (!o.exported) continue;
-    std::printf("  %4d  %-14s %5.2f %5d  %7.2f %7.2f %7.2f    %5.2f %5.2f %5.2f\n", o.id, o.class_name.c_str(),
+    std::printf("  %4d  %-14s %5.2f %5d  %7.2f %7.2f %7.2f    %5.2f %5.2f %5.2f%s\n", o.id, o.class_name.c_str(),
                 o.confidence, o.observations, o.centroid.x(), o.centroid.y(), o.centroid.z(), o.size.x(), o.size.y(),
-                o.size.z());
+                o.size.z(), o.complete ? "" : "  (partial: never seen whole)");
   }
 }
 

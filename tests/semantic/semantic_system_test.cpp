@@ -162,9 +162,10 @@ class SemanticSystem : public ::testing::Test {
 // The bar is 5 cm centroid and 10 cm size error. Surface samples from one
 // side of the room cannot see an object's back, so the test holds the system to
 // what it does reach (seed 1, background planes removed; measured worst case in
-// brackets): every object found once with its class, centroids within 0.07 m
-// [0.054] and within 5 cm for at least 3/4 of the objects [6 of 7], every axis of
-// every size within 0.10 m [0.057]. Tighten as the estimate improves.
+// brackets): every object found, once, with its class [8 of 8; 7 before views cut by
+// the image border could start objects], centroids within 0.07 m [0.054] and within
+// 5 cm for at least 3/4 of the objects [7 of 8], every axis of every size within
+// 0.10 m [0.068]. Tighten as the estimate improves.
 TEST_F(SemanticSystem, ObjectsPresetGivesEveryObjectOnceWithItsClassPlaceAndSize) {
   const fs::path seq = Generate("objects");
   const Result r = RunOn(seq);
@@ -198,7 +199,7 @@ TEST_F(SemanticSystem, ObjectsPresetGivesEveryObjectOnceWithItsClassPlaceAndSize
     size_ok += (o.size - best_size).cwiseAbs().maxCoeff() < 0.10;
   }
   for (const auto& [id, n] : matched) EXPECT_EQ(n, 1) << "ground-truth object " << id << " found " << n << " times";
-  EXPECT_GE(exported, static_cast<int>(gt["objects"].size()) - 2) << "objects missing";
+  EXPECT_EQ(exported, static_cast<int>(gt["objects"].size())) << "objects missing";
   EXPECT_GE(centroid_ok, exported * 3 / 4) << "centroids within 5 cm";
   EXPECT_EQ(size_ok, exported) << "sizes within 10 cm on every axis";
 }

@@ -6,8 +6,10 @@
 // removed, and the samples are kept in the keyframe's camera frame. The database
 // merges an observation into an object of the same class whose box overlaps it (3-D
 // IoU, or one centroid inside the other's box grown by a margin), else starts a new
-// object, unless the box is cut by the image edge: such a partial view may only join
-// an object. Each object keeps its observations anchored to their keyframes: its
+// object. A box cut by the image edge is a partial view: it may start an object (a
+// sofa next to the camera may never be seen whole), but its samples shape the
+// object only until a whole view comes, and an object seen only cut is exported
+// with complete = false, from one view more than a whole one. Each object keeps its observations anchored to their keyframes: its
 // centroid and size are recomputed from them with the keyframes' current poses
 // (robust: 1st-99th percentile extents of the samples that the other views' boxes
 // agree with, see CarvedPoints), so bundle adjustment moves objects with the map.
@@ -40,6 +42,7 @@ struct ObjectObservation {
   cv::Rect2f box;                         // px, the detection box (raw image)
   SE3 T_w_c_added;                        // the keyframe's pose when added (set by Add; the pose without a keyframe)
   std::vector<Eigen::Vector3f> points_c;  // m, samples in the keyframe's camera frame
+  bool cut = false;                       // the box touches the image border: part of the object is out of view
 };
 
 // Camera-frame point -> raw (distorted) pixel, for checking boxes across views.
@@ -74,7 +77,9 @@ struct ObjectEstimate {
   int observations = 0;
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // m, centre of the box, output frame
   Eigen::Vector3d size = Eigen::Vector3d::Zero();      // m, axis-aligned extent in the output frame
-  bool exported = false;  // seen at least object_min_observations times
+  bool exported = false;  // seen at least object_min_observations times (one more when not complete)
+  bool complete = true;   // seen whole at least once; false: every view was cut by the image border,
+                          // so centroid and size cover only the part in view
 };
 
 // T_w_c of a keyframe now (the caller resolves culled keyframes and locking).
@@ -87,8 +92,8 @@ class ObjectDatabase {
       : config_(config), project_(std::move(project)), image_(image) {}
 
   // Places the observation with the keyframe's pose T_w_c, merges or creates;
-  // returns the object's id, 0 when it matched nothing and may_create is false.
-  int Add(ObjectObservation observation, const SE3& T_w_c, bool may_create = true);
+  // returns the object's id.
+  int Add(ObjectObservation observation, const SE3& T_w_c);
   // Every object, re-estimated with the keyframes' current poses, in the frame
   // T_out_w * world (identity: the map frame).
   std::vector<ObjectEstimate> Estimate(const KeyFramePoseFn& pose_of, const SE3& T_out_w = SE3()) const;
@@ -110,7 +115,10 @@ class ObjectDatabase {
   // sample is kept when, among the other observations whose image it projects
   // into, at least half have it inside their box (a visual hull of the boxes: the
   // floor and wall caught in one view's box corners fall outside the others').
+  // Cut views' samples are left out when the object has a whole view.
   std::vector<Eigen::Vector3d> CarvedPoints(const Object& o, const std::vector<SE3>& T_w_c) const;
+  // Seen whole (not cut by the image border) at least once.
+  static bool Complete(const Object& o);
 
   SemanticConfig config_;
   ProjectFn project_;

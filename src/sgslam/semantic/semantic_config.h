@@ -98,7 +98,7 @@ struct SemanticConfig {
   double object_min_score = 0.3;     // detections below this score are not used for objects
   double object_merge_iou = 0.1;     // 3-D IoU above which an observation joins an object of its class
   double object_merge_margin = 0.1;  // m, association boxes are grown by this for the centre-inside test
-  int object_border = 3;             // px, a box this close to the image edge is cut off: it may join an object, not start one
+  int object_border = 3;             // px, a box this close to the image edge is cut off (its samples count only until a whole view comes)
   // Share of the samples cut off at each end of each axis of an object's extent
   // (outliers the carving left). A thin leg or a pot's base is a small share of
   // the samples: objects preset seeds 1-6, 0.02 -> 0.01: centroids within 5 cm
@@ -172,7 +172,7 @@ struct SemanticConfig {
     v("object_min_score", object_min_score, "detection score for objects");
     v("object_merge_iou", object_merge_iou, "3-D IoU to merge an observation");
     v("object_merge_margin", object_merge_margin, "m, association box growth");
-    v("object_border", object_border, "px, boxes this close to the edge only join objects");
+    v("object_border", object_border, "px, boxes this close to the edge are cut off views");
     v("object_extent_trim", object_extent_trim, "share of samples cut at each end of an object's extent");
     v("object_min_observations", object_min_observations, "observations to export an object");
     v("object_background_planes", object_background_planes, "background planes removed per box (0: off)");

@@ -221,7 +221,8 @@ void SemanticMapper::ProcessKeyFrame(const SemanticInput& input, const std::vect
     const int b = c.object_border;
     const bool cut = d.box.x < b || d.box.y < b || d.box.x + d.box.width > input.depth.cols - b ||
                      d.box.y + d.box.height > input.depth.rows - b;
-    objects_.Add(std::move(*obs), T_w_c, /*may_create=*/!cut);
+    obs->cut = cut;  // may start an object (an object never seen whole is still in the room)
+    objects_.Add(std::move(*obs), T_w_c);
   }
   ms.objects = stage.ElapsedMs();
 
