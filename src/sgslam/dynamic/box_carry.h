@@ -46,11 +46,7 @@ class BoxCarrier {
   // those of dynamic classes whose moving[i] is true. Forgets the rest.
   void Remember(const std::vector<Detection>& boxes, const std::vector<bool>& moving);
 
-  // Forgets every box (a new sequence, or a frame whose detector was late).
-  void Reset() { boxes_.clear(); }
-
  private:
-
   int frames_;
   double min_iou_;
   std::function<bool(const std::string&)> is_dynamic_;
