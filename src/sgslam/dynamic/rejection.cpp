@@ -142,11 +142,16 @@ RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>
   // not take pairs out of the F and PnP fits: where they have drifted off their
   // object they would leave the fits to what moves (dyn_dev frames 68-72: an
   // unknown moving box then carried F and the static pairs were rejected).
-  std::vector<Detection> fresh;
-  for (const Detection& d : detections) {
-    if (d.carried == 0) fresh.push_back(d);
+  // (The copy and second pass only in frames that hold a carried box.)
+  std::vector<double> w_fresh;
+  if (std::any_of(detections.begin(), detections.end(), [](const Detection& d) { return d.carried > 0; })) {
+    std::vector<Detection> fresh;
+    for (const Detection& d : detections) {
+      if (d.carried == 0) fresh.push_back(d);
+    }
+    w_fresh = weights_of(fresh);
   }
-  const std::vector<double> w_fit = fresh.size() == detections.size() ? w : weights_of(fresh);
+  const std::vector<double>& w_fit = w_fresh.empty() ? w : w_fresh;
   r.keypoints.resize(keys.size());
   for (size_t i = 0; i < keys.size(); ++i) r.keypoints[i].weight = w[i];
   const int min_kept = static_cast<int>(std::ceil(config.min_kept_ratio * static_cast<double>(keys.size())));
