@@ -115,6 +115,40 @@ TEST(DynamicPixelMask, MasksTheWholeDepthSegmentWhereMostKeypointsMoved) {
   EXPECT_EQ(cv::countNonZero(m), 0);
 }
 
+TEST(DynamicPixelMask, KeypointsKeptWithoutATestDoNotOutvoteTheMovingOnes) {
+  // A walker entering the view: its keypoints near the border have no flow pair
+  // and are kept untested (dyn_dev frames 128-134: 47-82 such keypoints a frame
+  // against 9-25 rejected); they must not count as static votes for the segment.
+  DetectorConfig dc;
+  const ClassTable classes(dc);
+  const cv::Mat depth = FaceBeforeWall();  // face at 2 m on [200, 300) x [150, 330), wall at 4 m
+  SemanticConfig c;
+  c.motion_radius = 0;  // the segments alone
+  std::vector<cv::KeyPoint> keys;
+  std::vector<std::uint8_t> rejected, unjudged;
+  for (int k = 0; k < 3; ++k) {  // rejected on the face
+    keys.emplace_back(220.f + 20.f * static_cast<float>(k), 170.f, 7.f);
+    rejected.push_back(1), unjudged.push_back(0);
+  }
+  for (int k = 0; k < 5; ++k) {  // kept untested on the face
+    keys.emplace_back(210.f + 20.f * static_cast<float>(k), 300.f, 7.f);
+    rejected.push_back(0), unjudged.push_back(1);
+  }
+  keys.emplace_back(500.f, 400.f, 7.f);  // kept after a test, on the wall
+  rejected.push_back(0), unjudged.push_back(0);
+  cv::Mat m = DynamicPixelMask(depth, 5000, {}, classes, keys, rejected, c, unjudged);
+  EXPECT_EQ(m.at<std::uint8_t>(320, 210), 255);  // the face
+  EXPECT_EQ(m.at<std::uint8_t>(240, 350), 0);    // the wall
+  c.motion_segment_skip_unjudged = false;  // counted as static: 3 of 8 rejected, not masked
+  m = DynamicPixelMask(depth, 5000, {}, classes, keys, rejected, c, unjudged);
+  EXPECT_EQ(cv::countNonZero(m), 0);
+  // Tested keypoints still outvote: the same five, tested and kept, leave it unmasked.
+  c.motion_segment_skip_unjudged = true;
+  std::fill(unjudged.begin(), unjudged.end(), 0);
+  m = DynamicPixelMask(depth, 5000, {}, classes, keys, rejected, c, unjudged);
+  EXPECT_EQ(cv::countNonZero(m), 0);
+}
+
 TEST(ObserveObject, TakesTheObjectDepthsOfTheWholeBox) {
   const Camera cam(PinholeCamera());
   const PixelRays rays(cam);

@@ -32,6 +32,8 @@ struct Tally {
   int carried_boxes = 0;        // over the missed frames
   int moving = 0, moving_rejected = 0;  // keypoints on walkers in the missed frames
   int still = 0, still_rejected = 0;    // static keypoints in the missed frames
+  int unjudged = 0;            // keypoints kept without a geometric test (all judged frames)
+  bool labels_consistent = true;  // one unjudged flag per keypoint, never on a rejected one
 };
 
 Tally RunWalkers(int carry_frames) {
@@ -59,6 +61,13 @@ Tally RunWalkers(int carry_frames) {
     const std::vector<cv::KeyPoint> keys = dynamic::test::DetectKeypoints(gray);
     stage.Submit(static_cast<std::uint64_t>(i), f.t, f.bgr);
     const DynamicOutcome out = stage.Label(static_cast<std::uint64_t>(i), gray, f.depth_raw, keys, std::nullopt);
+    if (i > kFirst) {
+      tally.labels_consistent = tally.labels_consistent && out.unjudged.size() == keys.size();
+      for (std::size_t k = 0; k < out.unjudged.size() && k < keys.size(); ++k) {
+        tally.unjudged += out.unjudged[k];
+        tally.labels_consistent = tally.labels_consistent && !(out.unjudged[k] && out.dynamic[k]);
+      }
+    }
     if ((i - kFirst) % 2 == 0 || i == kFirst + 1) continue;  // detected frames, and the first judged one
     tally.carried_boxes += out.carried;
     const std::vector<dynamic::test::Truth> truth = dynamic::test::Label(keys, f.dynamic_mask);
@@ -77,6 +86,10 @@ TEST(DynamicStage, BoxesOfWalkersTheDetectorMissedAreCarriedIntoTheFrame) {
               share(off.moving_rejected, off.moving), share(off.still_rejected, off.still),
               share(on.moving_rejected, on.moving), share(on.still_rejected, on.still), on.carried_boxes);
   EXPECT_EQ(off.carried_boxes, 0);
+  // Keypoints without a flow pair (e.g. within dynamic.border of the edge) are kept
+  // and flagged as untested for the semantic thread.
+  EXPECT_TRUE(on.labels_consistent);
+  EXPECT_GT(on.unjudged, 0);
   EXPECT_GE(on.carried_boxes, 10);  // 11 missed frames judged, at least one walker in view
   ASSERT_GT(on.moving, 200);
   EXPECT_GT(share(on.moving_rejected, on.moving), share(off.moving_rejected, off.moving) + 0.05);

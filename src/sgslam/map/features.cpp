@@ -17,7 +17,8 @@ ImageBounds UndistortedBounds(const Camera& camera) {
 std::shared_ptr<const Features> MakeFeatures(std::vector<cv::KeyPoint> keys, cv::Mat descriptors,
                                              const cv::Mat& depth_raw, std::shared_ptr<const Camera> camera,
                                              std::shared_ptr<const ScaleLevels> scale,
-                                             std::vector<std::uint8_t> dynamic, std::vector<Detection> detections) {
+                                             std::vector<std::uint8_t> dynamic, std::vector<Detection> detections,
+                                             std::vector<std::uint8_t> unjudged) {
   auto f = std::make_shared<Features>();
   f->bounds = UndistortedBounds(*camera);
   f->keys = std::move(keys);
@@ -43,6 +44,8 @@ std::shared_ptr<const Features> MakeFeatures(std::vector<cv::KeyPoint> keys, cv:
   f->grid = FeatureGrid(f->keys_un, f->bounds);
   if (!dynamic.empty() && dynamic.size() != n) throw std::invalid_argument("MakeFeatures: one dynamic label per keypoint");
   f->dynamic = std::move(dynamic);
+  if (!unjudged.empty() && unjudged.size() != n) throw std::invalid_argument("MakeFeatures: one unjudged flag per keypoint");
+  f->unjudged = std::move(unjudged);
   f->detections = std::move(detections);
   f->camera = std::move(camera);
   f->scale = std::move(scale);

@@ -32,6 +32,10 @@ struct Features {
   // moving (never tracked nor mapped); empty or all 0 in a static run. Keyframes
   // keep it, with the frame's detections, for the semantic mapping thread.
   std::vector<std::uint8_t> dynamic;
+  // 1 where a kept keypoint had no geometric test (no flow pair or no F: Algorithm 1
+  // had no evidence either way); empty when unknown. The semantic thread does not
+  // count such keypoints as static votes (dynamic_mask.h).
+  std::vector<std::uint8_t> unjudged;
   std::vector<Detection> detections;
 
   std::size_t size() const { return keys.size(); }
@@ -52,7 +56,8 @@ std::shared_ptr<const Features> MakeFeatures(std::vector<cv::KeyPoint> keys, cv:
                                              const cv::Mat& depth_raw, std::shared_ptr<const Camera> camera,
                                              std::shared_ptr<const ScaleLevels> scale,
                                              std::vector<std::uint8_t> dynamic = {},
-                                             std::vector<Detection> detections = {});
+                                             std::vector<Detection> detections = {},
+                                             std::vector<std::uint8_t> unjudged = {});
 
 // Bounds of the undistorted image (corners undistorted).
 ImageBounds UndistortedBounds(const Camera& camera);

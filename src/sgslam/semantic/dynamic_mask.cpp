@@ -16,7 +16,8 @@ int Find(std::vector<int>& parent, int i) {
 // less than the jump tolerance); each segment where enough keypoints were
 // rejected, and most of its keypoints, is masked whole.
 void MaskMovingSegments(const cv::Mat& depth_raw, double depth_factor, const std::vector<cv::KeyPoint>& keys,
-                        const std::vector<std::uint8_t>& rejected, const SemanticConfig& config, cv::Mat& mask) {
+                        const std::vector<std::uint8_t>& rejected, const std::vector<std::uint8_t>& unjudged,
+                        const SemanticConfig& config, cv::Mat& mask) {
   const int step = config.motion_segment_step;
   const int gw = (depth_raw.cols + step - 1) / step, gh = (depth_raw.rows + step - 1) / step;
   std::vector<float> z(static_cast<std::size_t>(gw) * gh);
@@ -41,7 +42,9 @@ void MaskMovingSegments(const cv::Mat& depth_raw, double depth_factor, const std
   std::vector<int> area(z.size(), 0), votes(z.size(), 0), keys_in(z.size(), 0);
   for (std::size_t i = 0; i < z.size(); ++i)
     if (z[i] > 0) ++area[Find(parent, static_cast<int>(i))];
+  const bool skip_unjudged = config.motion_segment_skip_unjudged && unjudged.size() == keys.size();
   for (std::size_t k = 0; k < keys.size(); ++k) {
+    if (skip_unjudged && unjudged[k] != 0) continue;  // no test, no vote either way
     const int gx = cvRound(keys[k].pt.x / step), gy = cvRound(keys[k].pt.y / step);
     if (gx < 0 || gy < 0 || gx >= gw || gy >= gh || z[gy * gw + gx] <= 0) continue;
     const int root = Find(parent, gy * gw + gx);
@@ -72,7 +75,8 @@ void MaskMovingSegments(const cv::Mat& depth_raw, double depth_factor, const std
 
 cv::Mat DynamicPixelMask(const cv::Mat& depth_raw, double depth_factor, const std::vector<Detection>& detections,
                          const ClassTable& classes, const std::vector<cv::KeyPoint>& keys,
-                         const std::vector<std::uint8_t>& rejected, const SemanticConfig& config) {
+                         const std::vector<std::uint8_t>& rejected, const SemanticConfig& config,
+                         const std::vector<std::uint8_t>& unjudged) {
   cv::Mat mask = cv::Mat::zeros(depth_raw.size(), CV_8UC1);
   const cv::Rect image(0, 0, depth_raw.cols, depth_raw.rows);
   std::vector<cv::Rect> boxes;
@@ -89,7 +93,7 @@ cv::Mat DynamicPixelMask(const cv::Mat& depth_raw, double depth_factor, const st
     boxes.push_back(r);
   }
   if (rejected.size() != keys.size()) return mask;
-  if (config.motion_segments) MaskMovingSegments(depth_raw, depth_factor, keys, rejected, config, mask);
+  if (config.motion_segments) MaskMovingSegments(depth_raw, depth_factor, keys, rejected, unjudged, config, mask);
   if (config.motion_radius <= 0) return mask;
   const int radius = config.motion_radius;
   const double band_raw = config.motion_depth_band * depth_factor;

@@ -8,7 +8,9 @@
 //    the moving surface near the keypoint, not the background behind it;
 //  - every smooth depth segment (of at most motion_segment_max_area of the image)
 //    where enough keypoints, and most of its keypoints, were rejected: the whole
-//    surface of an object that moves as one.
+//    surface of an object that moves as one. Keypoints kept without a geometric
+//    test (unjudged, one flag per key or empty) do not count there
+//    (motion_segment_skip_unjudged).
 #pragma once
 
 #include <opencv2/core.hpp>
@@ -23,6 +25,7 @@ namespace sgslam {
 // CV_8UC1, 255 = dynamic. keys: raw keypoint positions; rejected: one flag per key (or empty).
 cv::Mat DynamicPixelMask(const cv::Mat& depth_raw, double depth_factor, const std::vector<Detection>& detections,
                          const ClassTable& classes, const std::vector<cv::KeyPoint>& keys,
-                         const std::vector<std::uint8_t>& rejected, const SemanticConfig& config);
+                         const std::vector<std::uint8_t>& rejected, const SemanticConfig& config,
+                         const std::vector<std::uint8_t>& unjudged = {});
 
 }  // namespace sgslam

@@ -178,7 +178,7 @@ void SemanticMapper::ProcessKeyFrame(const SemanticInput& input, const std::vect
   StageMs ms{};
   Stopwatch stage;
   cv::Mat mask =
-      DynamicPixelMask(input.depth, config_.camera.depth_factor, f.detections, classes_, f.keys, f.dynamic, c);
+      DynamicPixelMask(input.depth, config_.camera.depth_factor, f.detections, classes_, f.keys, f.dynamic, c, f.unjudged);
   MaskCarriedBoxes(carried, input.depth, config_.camera.depth_factor, c.box_window_band, mask);
   ms.mask = stage.ElapsedMs();
 

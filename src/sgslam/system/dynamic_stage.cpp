@@ -45,6 +45,7 @@ void DynamicStage::Submit(std::uint64_t frame_id, Timestamp t, const cv::Mat& bg
 
 void DynamicStage::ApplyTruthMask(const cv::Mat& mask, const std::vector<cv::KeyPoint>& keys, DynamicOutcome& out) {
   out.dynamic.assign(keys.size(), 0);
+  out.unjudged.clear();  // the masks judge every keypoint
   out.kept = 0;
   out.rejected_geometry = out.rejected_depth = out.rejected_track = 0;
   for (std::size_t i = 0; i < keys.size(); ++i) {
@@ -215,7 +216,11 @@ DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, 
       r.kept -= out.rejected_track;
       r.rejected_depth += out.rejected_track;
     }
-    for (std::size_t i = 0; i < keys.size(); ++i) out.dynamic[i] = r.keypoints[i].kept ? 0 : 1;
+    out.unjudged.assign(keys.size(), 0);
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+      out.dynamic[i] = r.keypoints[i].kept ? 0 : 1;
+      out.unjudged[i] = r.keypoints[i].why == dynamic::Why::kUnjudged ? 1 : 0;
+    }
     out.kept = r.kept;
     out.rejected_geometry = r.rejected_geometry;
     out.rejected_semantics = r.rejected_semantics;

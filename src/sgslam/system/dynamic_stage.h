@@ -44,6 +44,7 @@ class Camera;
 
 struct DynamicOutcome {
   std::vector<std::uint8_t> dynamic;  // per keypoint: 1 = rejected (never tracked nor mapped)
+  std::vector<std::uint8_t> unjudged;  // per keypoint: 1 = kept without a geometric test (Why::kUnjudged)
   std::vector<Detection> detections;  // of this frame (empty without a detector or when late), then the carried ones
   int carried = 0;                    // of detections: missed moving-object boxes carried over (box_carry.h)
   int kept = 0, rejected_geometry = 0, rejected_semantics = 0, rejected_depth = 0;

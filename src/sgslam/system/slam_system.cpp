@@ -108,10 +108,10 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
   report.detector_ms = dyn.detector_ms;
   report.wait_ms = dyn.wait_ms;
   report.reject_ms = dyn.reject_ms;
-  if (!dyn.judged) dyn.dynamic.clear();
+  if (!dyn.judged) dyn.dynamic.clear(), dyn.unjudged.clear();
   Frame frame(frame_id, images.t,
               MakeFeatures(std::move(keys), std::move(descriptors), images.depth, camera_, scale_,
-                           std::move(dyn.dynamic), std::move(dyn.detections)),
+                           std::move(dyn.dynamic), std::move(dyn.detections), std::move(dyn.unjudged)),
               gray);
   report.features = static_cast<int>(frame.size());
   report.keypoints.reserve(frame.size());
