@@ -225,6 +225,71 @@ TEST(Motion, PriorCellsAreLeftOutOfTheFits) {
   EXPECT_EQ(with.fundamental->pairs, 400 - left);
 }
 
+// dynamic.prior_memory: a cell whose keypoints were rejected stays out of the fits
+// while their flow-tracked successors are kept, for memory - 1 more frames.
+TEST(Motion, PriorRemembersRejectionsForSomeFrames) {
+  const cv::Size image(640, 480);
+  const std::vector<cv::KeyPoint> keys = {cv::KeyPoint(30, 30, 7), cv::KeyPoint(35, 32, 7), cv::KeyPoint(300, 300, 7)};
+  RejectionResult rejected;  // frame 0: the two keypoints of cell (1, 1) rejected
+  rejected.keypoints.resize(3);
+  rejected.keypoints[0].kept = rejected.keypoints[1].kept = false;
+  // The next frames keep everything; their flow leads back into the same cell.
+  RejectionResult kept;
+  kept.keypoints.resize(3);
+  for (size_t i = 0; i < 3; ++i) kept.keypoints[i].pair = PairStatus::kOk, kept.keypoints[i].prev = keys[i].pt;
+  for (int memory : {1, 3}) {
+    DynamicPrior prior = MakeDynamicPrior(keys, rejected, image, 20, nullptr, memory);
+    EXPECT_EQ(prior.Memory({30, 30}), memory);
+    EXPECT_FALSE(prior.Dynamic({300, 300}));
+    for (int frame = 1; frame <= 3; ++frame) {
+      prior = MakeDynamicPrior(keys, kept, image, 20, &prior, memory);
+      EXPECT_EQ(prior.Dynamic({30, 30}), frame < memory) << "memory " << memory << ", frame " << frame;
+    }
+  }
+  // A successor without a flow pair has no past to inherit.
+  RejectionResult unpaired = kept;
+  for (auto& v : unpaired.keypoints) v.pair = PairStatus::kFlowFailed;
+  const DynamicPrior first = MakeDynamicPrior(keys, rejected, image, 20, nullptr, 3);
+  EXPECT_FALSE(MakeDynamicPrior(keys, unpaired, image, 20, &first, 3).Dynamic({30, 30}));
+}
+
+// dynamic.confirm_static: static points in a dynamic box that the RGB-D check
+// passes well within its tolerances are judged without the box weight; movers in
+// the box are not confirmed.
+TEST(Motion, StaticPointsTheRgbdCheckConfirmsAreJudgedWithoutTheBoxWeight) {
+  const Scene s = MakeScene(300, 100);
+  DynamicConfig c;
+  c.mode = "sg";
+  c.depth_check = true;
+  c.depth_motion = "pnp";
+  c.box_depth_band = 0;  // every keypoint in the box is weighted
+  const DepthCheckInput depth{s.prev_depth, s.cur_depth, 1.0, s.K, SE3(), {}};
+  const std::vector<Detection> box = {Detection{0, "person", 0.9f, cv::Rect2f(0, 0, 320, 480)}};
+  const WeightFn huge = [](const std::string&) { return 1e9; };  // any d > 0 fails d * w < eps
+  const auto in_box = [&](const RejectionResult& r, bool moving) {
+    int n = 0, rejected = 0;
+    for (size_t i = 0; i < s.moving.size(); ++i) {
+      if (s.moving[i] != moving || s.cur_raw[i].x >= 320) continue;
+      ++n, rejected += !r.keypoints[i].kept;
+    }
+    return std::pair{n, rejected};
+  };
+  c.confirm_static = 0;
+  const RejectionResult plain = JudgePairs(Pairs(s, true), Keys(s), box, huge, c, &depth);
+  c.confirm_static = 0.33;
+  const RejectionResult confirmed = JudgePairs(Pairs(s, true), Keys(s), box, huge, c, &depth);
+  const auto [statics, plain_lost] = in_box(plain, false);
+  const auto [statics2, confirmed_lost] = in_box(confirmed, false);
+  const auto [movers, movers_caught] = in_box(confirmed, true);
+  std::printf("static in the box: %d, lost %d without, %d with confirmation; movers %d, %d rejected\n", statics,
+              plain_lost, confirmed_lost, movers, movers_caught);
+  ASSERT_GT(statics, 100);
+  ASSERT_GT(movers, 30);
+  EXPECT_GE(plain_lost, statics * 9 / 10);
+  EXPECT_LE(confirmed_lost, statics / 10);  // measured 11 of 150: PnP on the right half is not exact
+  EXPECT_EQ(movers_caught, movers);
+}
+
 TEST(Motion, TrackPairsUndistortsBothPositions) {
   const test::FramePair p = test::MakePair("static", 10);
   const auto keys = test::DetectKeypoints(p.cur_gray, 200);
@@ -249,9 +314,11 @@ TEST(Motion, ConfigChecksTheNewKeys) {
   bad.depth_motion = "imu";
   bad.prior_cell = -1;
   bad.depth_max_share = 1.5;
+  bad.prior_memory = 0;
+  bad.confirm_static = -0.1;
   ConfigChecker c("dynamic");
   bad.Validate(c);
-  EXPECT_EQ(c.problems().size(), 3u);
+  EXPECT_EQ(c.problems().size(), 5u);
 }
 
 }  // namespace

@@ -68,6 +68,7 @@ std::vector<DepthResidual> CheckDepth(const std::vector<cv::Point2f>& prev, cons
     r.reprojection_error = (projected - Eigen::Vector2d(cur_un[i].x, cur_un[i].y)).norm();
     const double z_tolerance = config.depth_tolerance + config.depth_tolerance_quadratic * X_cur.z() * X_cur.z();
     r.moved = r.depth_error > z_tolerance;
+    r.depth_tolerance = z_tolerance;
   }
   if (config.reprojection_tolerance > 0) {
     // The frame's own residual level: under fast rotation the static points' residuals
@@ -83,7 +84,10 @@ std::vector<DepthResidual> CheckDepth(const std::vector<cv::Point2f>& prev, cons
       std::nth_element(e.begin(), mid, e.end());
       tolerance = std::max(tolerance, config.reprojection_median_factor * *mid);
     }
-    for (DepthResidual& r : out) r.moved = r.moved || (r.valid && r.reprojection_error > tolerance);
+    for (DepthResidual& r : out) {
+      r.reprojection_tolerance = tolerance;
+      r.moved = r.moved || (r.valid && r.reprojection_error > tolerance);
+    }
   }
   return out;
 }

@@ -50,6 +50,8 @@ struct DepthResidual {
   bool moved = false;             // beyond the tolerances
   double depth_error = 0;         // m, |z_pred - z_meas|
   double reprojection_error = 0;  // px
+  double depth_tolerance = 0;         // m, the depth error allowed for this point
+  double reprojection_tolerance = 0;  // px, the reprojection error allowed in this frame
 };
 
 // One result per pair; pairs with use[i] false are skipped (valid false).

@@ -16,7 +16,7 @@ double EffectiveWeight(Mode mode, const KeypointVerdict& v) { return mode == Mod
 
 // Algorithm 1 lines 4-14 with threshold eps, plus the unjudged and depth rules.
 int Decide(Mode mode, double eps, const DynamicConfig& c, const std::vector<bool>& moved,
-           std::vector<KeypointVerdict>& verdicts) {
+           const std::vector<bool>& confirmed, std::vector<KeypointVerdict>& verdicts) {
   int kept = 0;
   for (size_t i = 0; i < verdicts.size(); ++i) {
     KeypointVerdict& v = verdicts[i];
@@ -31,7 +31,7 @@ int Decide(Mode mode, double eps, const DynamicConfig& c, const std::vector<bool
         v.kept = true, v.why = Why::kUnjudged;
       }
     } else {
-      v.kept = v.distance * EffectiveWeight(mode, v) < eps;  // lines 6 and 10
+      v.kept = v.distance * (confirmed[i] ? 1.0 : EffectiveWeight(mode, v)) < eps;  // lines 6 and 10
       v.why = v.kept ? Why::kStatic : Why::kGeometry;
     }
     kept += v.kept;
@@ -78,27 +78,38 @@ Mode ParseMode(const std::string& name) {
   throw ConfigError("dynamic.mode = " + name + ": must be none, semantic, geometric or sg");
 }
 
-bool DynamicPrior::Dynamic(cv::Point2f p) const {
-  if (cell <= 0 || dynamic.empty()) return false;
+int DynamicPrior::Memory(cv::Point2f p) const {
+  if (cell <= 0 || dynamic.empty()) return 0;
   const int cx = static_cast<int>(p.x) / cell, cy = static_cast<int>(p.y) / cell;
-  if (p.x < 0 || p.y < 0 || cx >= dynamic.cols || cy >= dynamic.rows) return false;
-  return dynamic.at<uchar>(cy, cx) != 0;
+  if (p.x < 0 || p.y < 0 || cx >= dynamic.cols || cy >= dynamic.rows) return 0;
+  return dynamic.at<uchar>(cy, cx);
 }
 
 DynamicPrior MakeDynamicPrior(const std::vector<cv::KeyPoint>& keys, const RejectionResult& result, cv::Size image,
-                              int cell) {
+                              int cell, const DynamicPrior* previous, int memory) {
   DynamicPrior prior;
   if (cell <= 0 || keys.size() != result.keypoints.size()) return prior;
   prior.cell = cell;
+  memory = std::clamp(memory, 1, 255);
   const int cols = (image.width + cell - 1) / cell, rows = (image.height + cell - 1) / cell;
-  cv::Mat votes(rows, cols, CV_32S, cv::Scalar(0));  // rejected minus kept
+  cv::Mat votes(rows, cols, CV_32S, cv::Scalar(0));   // dynamic minus static keypoints
+  cv::Mat longest(rows, cols, CV_8U, cv::Scalar(0));  // the most frames left among its dynamic keypoints
   for (size_t i = 0; i < keys.size(); ++i) {
     const int cx = static_cast<int>(keys[i].pt.x) / cell, cy = static_cast<int>(keys[i].pt.y) / cell;
     if (keys[i].pt.x < 0 || keys[i].pt.y < 0 || cx >= cols || cy >= rows) continue;
-    votes.at<int>(cy, cx) += result.keypoints[i].kept ? -1 : 1;
+    const KeypointVerdict& v = result.keypoints[i];
+    int left = 0;  // frames this keypoint still counts as dynamic
+    if (!v.kept) {
+      left = memory;
+    } else if (previous != nullptr && v.pair == PairStatus::kOk) {
+      left = std::max(0, previous->Memory(v.prev) - 1);
+    }
+    votes.at<int>(cy, cx) += left > 0 ? 1 : -1;
+    uchar& l = longest.at<uchar>(cy, cx);
+    l = std::max<uchar>(l, static_cast<uchar>(left));
   }
-  prior.dynamic = votes > 0;
-  prior.dynamic /= 255;
+  prior.dynamic = cv::Mat(rows, cols, CV_8U, cv::Scalar(0));
+  longest.copyTo(prior.dynamic, votes > 0);
   return prior;
 }
 
@@ -199,6 +210,7 @@ RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>
 
   stage.Restart();
   std::vector<bool> moved(keys.size(), false);
+  std::vector<bool> confirmed(keys.size(), false);
   if (config.depth_check && depth != nullptr) {
     std::optional<DepthCheckInput> with_motion;
     const DepthCheckInput* in = depth;
@@ -237,17 +249,25 @@ RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>
       if (flagged > config.depth_max_share * checked) {
         std::fill(moved.begin(), moved.end(), false);
         r.depth_ignored = true;
+      } else if (mode == Mode::kSg && config.confirm_static > 0) {
+        // Direct evidence of a static point outweighs the box's prior (dynamic_config.h).
+        const double share = config.confirm_static;
+        for (size_t i = 0; i < keys.size(); ++i) {
+          const DepthResidual& q = residuals[i];
+          confirmed[i] = q.valid && !q.moved && q.depth_error <= share * q.depth_tolerance &&
+                         q.reprojection_error <= share * q.reprojection_tolerance;
+        }
       }
     }
   }
   r.ms.depth = stage.ElapsedMs();
 
   stage.Restart();
-  int kept = Decide(mode, r.eps_used, config, moved, r.keypoints);  // lines 4-14
+  int kept = Decide(mode, r.eps_used, config, moved, confirmed, r.keypoints);  // lines 4-14
   while (kept < min_kept && r.relax_steps < config.relax_steps) {   // fallback, see the header
     ++r.relax_steps;
     r.eps_used *= config.relax_factor;
-    kept = Decide(mode, r.eps_used, config, moved, r.keypoints);
+    kept = Decide(mode, r.eps_used, config, moved, confirmed, r.keypoints);
   }
   if (kept < min_kept) r.restored = RestoreMostStatic(mode, min_kept - kept, r.keypoints);
   Count(r);

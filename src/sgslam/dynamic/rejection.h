@@ -21,7 +21,9 @@
 // RGB-D check flags are rejected in geometric and sg modes whatever their w (the
 // check has its own noise model), and the fallback restores them last; a check
 // that flags more than config.depth_max_share of the pairs it could test is
-// ignored for the frame (its motion must be wrong). With
+// ignored for the frame (its motion must be wrong). In sg, a keypoint in a dynamic
+// box that the check passes within config.confirm_static of both tolerances is
+// judged at w = 1 (direct evidence outweighs the box's prior). With
 // config.depth_motion = pnp the check uses the motion PnP RANSAC finds on the
 // pairs (motion.h, fitted on the same preferred pairs as F), else the tracker's.
 // Geometry (F, eq. 4, PnP, reprojection) uses undistorted pixels when an undistort
@@ -91,7 +93,8 @@ struct PairSet {
 struct DynamicPrior {
   int cell = 0;  // px
   cv::Mat dynamic;  // CV_8U, one per cell, 1 = most of its keypoints were rejected
-  bool Dynamic(cv::Point2f p) const;
+  bool Dynamic(cv::Point2f p) const { return Memory(p) > 0; }
+  int Memory(cv::Point2f p) const;  // frames the cell at p stays dynamic; 0: static or no prior
 };
 
 struct RejectionResult {
@@ -119,9 +122,11 @@ RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>
                            const DynamicConfig& config, const DepthCheckInput* depth = nullptr,
                            const DynamicPrior* prior = nullptr);
 
-// The prior for the next frame from this frame's verdicts.
+// The prior for the next frame from this frame's verdicts: a cell is dynamic when
+// most of its keypoints are; a rejected keypoint counts for `memory` frames, passed
+// on through its successors' flow pairs (previous: the prior this frame used).
 DynamicPrior MakeDynamicPrior(const std::vector<cv::KeyPoint>& keys, const RejectionResult& result, cv::Size image,
-                              int cell);
+                              int cell, const DynamicPrior* previous = nullptr, int memory = 1);
 
 // TrackPairs then JudgePairs.
 RejectionResult RejectDynamicFeatures(const FlowFrame& prev, const FlowFrame& cur,

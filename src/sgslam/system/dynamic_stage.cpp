@@ -226,7 +226,8 @@ DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, 
     out.rejected_semantics = r.rejected_semantics;
     out.rejected_depth = r.rejected_depth;
     out.judged = true;
-    prior_ = dynamic::MakeDynamicPrior(keys, r, gray.size(), config_.dynamic.prior_cell);
+    prior_ = dynamic::MakeDynamicPrior(keys, r, gray.size(), config_.dynamic.prior_cell, &prior_,
+                                       config_.dynamic.prior_memory);
     if (worker_ && config_.dynamic.carry_frames > 0) carrier_.Remember(out.detections, ShowMotion(keys, r, out.detections));
   } else {
     out.kept = static_cast<int>(keys.size());
