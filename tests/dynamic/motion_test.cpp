@@ -290,6 +290,49 @@ TEST(Motion, StaticPointsTheRgbdCheckConfirmsAreJudgedWithoutTheBoxWeight) {
   EXPECT_EQ(movers_caught, movers);
 }
 
+// dynamic.judge_appearance_pairs: pairs that failed only the appearance filter are
+// not used for F, but one beyond eps_std is rejected; within it, kept untested.
+TEST(Motion, AppearanceFailedPairsBeyondEpsAreRejected) {
+  const Scene s = MakeScene(300, 0);
+  PairSet pairs = Pairs(s, true);
+  std::vector<size_t> failed;
+  for (size_t i = 0; i < s.moving.size(); i += 3) {
+    pairs.flow.status[i] = PairStatus::kAppearance;
+    --pairs.flow.valid;
+    failed.push_back(i);
+  }
+  DynamicConfig c;
+  c.mode = "sg";
+  c.depth_check = false;
+  const RejectionResult before = JudgePairs(pairs, Keys(s), {}, {}, c);
+  ASSERT_TRUE(before.fundamental);
+  EXPECT_EQ(before.fundamental->pairs, pairs.flow.valid);  // not used for F
+  // Half of them "moved": 10 px across their epipolar line.
+  const Eigen::Matrix3d& F = before.fundamental->F_cur_prev;
+  for (size_t k = 0; k < failed.size(); k += 2) {
+    const size_t i = failed[k];
+    EXPECT_TRUE(before.keypoints[i].kept);
+    const Eigen::Vector3d l = F * Eigen::Vector3d(pairs.prev_un[i].x, pairs.prev_un[i].y, 1.0);
+    const Eigen::Vector2d n = l.head<2>().normalized() * 10.0;
+    pairs.cur_un[i] += cv::Point2f(static_cast<float>(n.x()), static_cast<float>(n.y()));
+  }
+  const auto count = [&](const RejectionResult& r, size_t parity) {
+    int rejected = 0;
+    for (size_t k = parity; k < failed.size(); k += 2) rejected += !r.keypoints[failed[k]].kept;
+    return rejected;
+  };
+  c.judge_appearance_pairs = false;
+  const RejectionResult off = JudgePairs(pairs, Keys(s), {}, {}, c);
+  EXPECT_EQ(count(off, 0) + count(off, 1), 0);  // untested, kept
+  c.judge_appearance_pairs = true;
+  const RejectionResult on = JudgePairs(pairs, Keys(s), {}, {}, c);
+  const int moved = static_cast<int>((failed.size() + 1) / 2);
+  EXPECT_EQ(count(on, 0), moved);
+  EXPECT_EQ(count(on, 1), 0);
+  EXPECT_EQ(on.keypoints[failed[0]].why, Why::kGeometry);
+  EXPECT_EQ(on.keypoints[failed[1]].why, Why::kUnjudged);
+}
+
 TEST(Motion, TrackPairsUndistortsBothPositions) {
   const test::FramePair p = test::MakePair("static", 10);
   const auto keys = test::DetectKeypoints(p.cur_gray, 200);

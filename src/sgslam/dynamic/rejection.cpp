@@ -27,6 +27,8 @@ int Decide(Mode mode, double eps, const DynamicConfig& c, const std::vector<bool
         v.kept = false, v.why = Why::kSemantics;
       } else if (c.reject_unmatched) {
         v.kept = false, v.why = Why::kUnmatched;
+      } else if (c.judge_appearance_pairs && v.loose_distance >= eps) {  // NaN compares false
+        v.kept = false, v.why = Why::kGeometry;
       } else {
         v.kept = true, v.why = Why::kUnjudged;
       }
@@ -205,6 +207,14 @@ RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>
       if (valid[i]) r.keypoints[i].distance = EpipolarDistance(r.fundamental->F_cur_prev, p1[k], p2[k]), ++k;
     }
     if (!r.fundamental->from_static) use_motion = valid;  // too few preferred pairs: all
+    if (config.judge_appearance_pairs) {
+      for (size_t i = 0; i < keys.size(); ++i) {
+        if (flow.status[i] != PairStatus::kAppearance) continue;
+        r.keypoints[i].loose_distance =
+            EpipolarDistance(r.fundamental->F_cur_prev, Eigen::Vector2d(pairs.prev_un[i].x, pairs.prev_un[i].y),
+                             Eigen::Vector2d(pairs.cur_un[i].x, pairs.cur_un[i].y));
+      }
+    }
   }
   r.ms.fundamental = stage.ElapsedMs();
 

@@ -8,7 +8,9 @@
 // Keypoints without a valid flow pair or F cannot be judged geometrically: in sg a
 // keypoint inside a dynamic box is rejected (semantics is the only evidence),
 // elsewhere kept, as in geometric mode (reject_unmatched = true gives the paper's
-// literal rule, where only matched pairs can enter S).
+// literal rule, where only matched pairs can enter S). A pair that failed only the
+// appearance filter is kept out of F but, with config.judge_appearance_pairs, its
+// keypoint is rejected outside the boxes when the pair is beyond eps.
 // Fallback (release: restore every keypoint when < 10 % survive, person present):
 // when fewer than min_kept_ratio of the keypoints are kept, eps_std is relaxed by
 // relax_factor up to relax_steps times; if still too few, the rejected keypoints
@@ -67,6 +69,11 @@ struct KeypointVerdict {
   bool kept = true;
   Why why = Why::kStatic;
   double distance = std::nan("");  // px, eq. (4); NaN without a valid pair and F
+  // px, eq. (4) of a pair whose flow converged but whose patches differ (kAppearance);
+  // NaN otherwise. With config.judge_appearance_pairs such a keypoint outside the
+  // boxes is rejected when it is beyond eps: the flow may be off, but a static point
+  // it leads astray rarely lands far from its epipolar line.
+  double loose_distance = std::nan("");
   double weight = 1.0;             // largest w of the dynamic boxes holding the keypoint; 1 outside
   PairStatus pair = PairStatus::kFlowFailed;
   cv::Point2f prev;  // px, flow position in the previous image (pair == kOk)
