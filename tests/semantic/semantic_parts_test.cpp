@@ -91,12 +91,24 @@ TEST(DynamicPixelMask, PersonBoxesAndRejectedKeypointsButNotChairs) {
   EXPECT_EQ(m.at<std::uint8_t>(400, 100), 0);    // kept keypoint
 }
 
-TEST(DynamicPixelMask, MasksTheWholeDepthSegmentWhereMostKeypointsMoved) {
+// The depth segments alone (no motion radius) on a face at 2 m on [200, 300) x
+// [150, 330) before a wall at 4 m.
+struct SegmentsOnly {
   DetectorConfig dc;
-  const ClassTable classes(dc);
-  const cv::Mat depth = FaceBeforeWall();  // face at 2 m on [200, 300) x [150, 330), wall at 4 m
-  SemanticConfig c;
-  c.motion_radius = 0;  // the segments alone
+  const ClassTable classes{dc};
+  const cv::Mat depth = FaceBeforeWall();
+  SemanticConfig c = [] {
+    SemanticConfig s;
+    s.motion_radius = 0;
+    return s;
+  }();
+};
+
+TEST(DynamicPixelMask, MasksTheWholeDepthSegmentWhereMostKeypointsMoved) {
+  const SegmentsOnly t;
+  const ClassTable& classes = t.classes;
+  const cv::Mat& depth = t.depth;
+  const SemanticConfig& c = t.c;
   std::vector<cv::KeyPoint> keys;
   for (int k = 0; k < 4; ++k) keys.emplace_back(220.f + 20.f * static_cast<float>(k), 170.f, 7.f);  // top of the face
   keys.emplace_back(250.f, 300.f, 7.f);  // one kept on the face
@@ -119,11 +131,10 @@ TEST(DynamicPixelMask, KeypointsKeptWithoutATestDoNotOutvoteTheMovingOnes) {
   // A walker entering the view: its keypoints near the border have no flow pair
   // and are kept untested (dyn_dev frames 128-134: 47-82 such keypoints a frame
   // against 9-25 rejected); they must not count as static votes for the segment.
-  DetectorConfig dc;
-  const ClassTable classes(dc);
-  const cv::Mat depth = FaceBeforeWall();  // face at 2 m on [200, 300) x [150, 330), wall at 4 m
-  SemanticConfig c;
-  c.motion_radius = 0;  // the segments alone
+  SegmentsOnly t;
+  const ClassTable& classes = t.classes;
+  const cv::Mat& depth = t.depth;
+  SemanticConfig& c = t.c;
   std::vector<cv::KeyPoint> keys;
   std::vector<std::uint8_t> rejected, unjudged;
   for (int k = 0; k < 3; ++k) {  // rejected on the face
