@@ -69,6 +69,26 @@ TEST(DepthCheck, FlagsSidewaysAndDepthMotionAndKeepsStaticPoints) {
   }
 }
 
+// A static point whose previous pixel holds another surface's depth (a depth edge
+// one pixel off, fr1's depth-to-colour offset): lifted with it, the point is 1.5 m
+// off and 6 px away after the 2 cm step. The window of previous depths finds the
+// wall's depth next to it; the movers stay flagged.
+TEST(DepthCheck, WindowOfPreviousDepthsForgivesADepthEdgeOnePixelOff) {
+  Scene s = Make(CV_32F);
+  const cv::Point p = s.prev[0];
+  s.in.prev_depth.at<float>(p.y, p.x) = 1.0f;
+  DynamicConfig c;
+  c.depth_check_window = 0;
+  const std::vector<DepthResidual> centre = CheckDepth(s.prev, s.cur, {true, true, true}, s.in, c);
+  EXPECT_TRUE(centre[0].moved);
+  c.depth_check_window = 1;
+  const std::vector<DepthResidual> window = CheckDepth(s.prev, s.cur, {true, true, true}, s.in, c);
+  EXPECT_FALSE(window[0].moved);
+  EXPECT_LT(window[0].reprojection_error, 0.01);
+  EXPECT_TRUE(window[1].moved);
+  EXPECT_TRUE(window[2].moved);
+}
+
 // Fast rotation with a rolling shutter: every static point lands 4 px off where the
 // motion puts it; a mover lands 25 px off. A fixed 3 px tolerance flags them all, a
 // tolerance of 3x the frame's median residual only the mover.

@@ -359,9 +359,10 @@ TEST(Motion, ConfigChecksTheNewKeys) {
   bad.depth_max_share = 1.5;
   bad.prior_memory = 0;
   bad.confirm_static = -0.1;
+  bad.depth_check_window = 9;
   ConfigChecker c("dynamic");
   bad.Validate(c);
-  EXPECT_EQ(c.problems().size(), 5u);
+  EXPECT_EQ(c.problems().size(), 6u);
 }
 
 }  // namespace

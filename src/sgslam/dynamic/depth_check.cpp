@@ -43,30 +43,41 @@ std::vector<DepthResidual> CheckDepth(const std::vector<cv::Point2f>& prev, cons
     if (!use[i]) continue;
     const int x0 = cvRound(prev[i].x), y0 = cvRound(prev[i].y);
     const int x1 = cvRound(cur[i].x), y1 = cvRound(cur[i].y);
-    if (x0 < 1 || y0 < 1 || x0 >= d0.cols - 1 || y0 >= d0.rows - 1) continue;
+    const int m0 = std::max(1, config.depth_check_window);
+    if (x0 < m0 || y0 < m0 || x0 >= d0.cols - m0 || y0 >= d0.rows - m0) continue;
     if (x1 < 1 || y1 < 1 || x1 >= d1.cols - 1 || y1 >= d1.rows - 1) continue;
-    const double z0 = DepthAt(d0, x0, y0, input.depth_factor);
-    if (!InRange(z0, config)) continue;
+    if (!InRange(DepthAt(d0, x0, y0, input.depth_factor), config)) continue;
     const Eigen::Vector2d u0(prev_un[i].x, prev_un[i].y);
-    const Eigen::Vector3d X_prev((u0.x() - K.cx) / K.fx * z0, (u0.y() - K.cy) / K.fy * z0, z0);
-    const Eigen::Vector3d X_cur = input.T_cur_prev * X_prev;
-    if (X_cur.z() < config.depth_min) continue;
-    // The smallest depth error in the 3x3 neighbourhood: a static point next to a
-    // depth edge must not be flagged because rounding picked the other surface.
-    double best = std::numeric_limits<double>::infinity();
-    for (int dy = -1; dy <= 1; ++dy) {
-      for (int dx = -1; dx <= 1; ++dx) {
-        const double z = DepthAt(d1, x1 + dx, y1 + dy, input.depth_factor);
-        if (InRange(z, config)) best = std::min(best, std::abs(X_cur.z() - z));
+    const Eigen::Vector2d u1(cur_un[i].x, cur_un[i].y);
+    // Each previous depth of the window lifts the point; the smallest depth error
+    // (against the current 3x3, below) and the smallest reprojection error count:
+    // a static point next to a depth edge must not be flagged because rounding (or
+    // fr1's depth-to-colour offset) picked the other surface.
+    const int w = config.depth_check_window;
+    double best = std::numeric_limits<double>::infinity(), best_rep = best, z_at_best = 0;
+    for (int py = -w; py <= w; ++py) {
+      for (int px = -w; px <= w; ++px) {
+        const double zp = DepthAt(d0, x0 + px, y0 + py, input.depth_factor);
+        if (!InRange(zp, config)) continue;
+        const Eigen::Vector3d X_prev((u0.x() - K.cx) / K.fx * zp, (u0.y() - K.cy) / K.fy * zp, zp);
+        const Eigen::Vector3d X_cur = input.T_cur_prev * X_prev;
+        if (X_cur.z() < config.depth_min) continue;
+        const Eigen::Vector2d projected(K.fx * X_cur.x() / X_cur.z() + K.cx, K.fy * X_cur.y() / X_cur.z() + K.cy);
+        best_rep = std::min(best_rep, (projected - u1).norm());
+        for (int dy = -1; dy <= 1; ++dy) {
+          for (int dx = -1; dx <= 1; ++dx) {
+            const double z = DepthAt(d1, x1 + dx, y1 + dy, input.depth_factor);
+            if (InRange(z, config) && std::abs(X_cur.z() - z) < best) best = std::abs(X_cur.z() - z), z_at_best = X_cur.z();
+          }
+        }
       }
     }
-    if (!std::isfinite(best)) continue;
+    if (!std::isfinite(best) || !std::isfinite(best_rep)) continue;
     DepthResidual& r = out[i];
     r.valid = true;
     r.depth_error = best;
-    const Eigen::Vector2d projected(K.fx * X_cur.x() / X_cur.z() + K.cx, K.fy * X_cur.y() / X_cur.z() + K.cy);
-    r.reprojection_error = (projected - Eigen::Vector2d(cur_un[i].x, cur_un[i].y)).norm();
-    const double z_tolerance = config.depth_tolerance + config.depth_tolerance_quadratic * X_cur.z() * X_cur.z();
+    r.reprojection_error = best_rep;
+    const double z_tolerance = config.depth_tolerance + config.depth_tolerance_quadratic * z_at_best * z_at_best;
     r.moved = r.depth_error > z_tolerance;
     r.depth_tolerance = z_tolerance;
   }

@@ -4,8 +4,11 @@
 // what the current frame measures: its depth at the current keypoint, and the
 // keypoint's position. A point is flagged as moved when
 //   |z_pred - z_meas| > depth_tolerance + depth_tolerance_quadratic * z^2
-// (Kinect depth noise grows with z^2, Khoshelham & Elberink 2012), or when the
-// reprojection error exceeds reprojection_tolerance px, or reprojection_median_factor
+// (Kinect depth noise grows with z^2, Khoshelham & Elberink 2012; the smallest
+// error over the previous depths of a (2 depth_check_window + 1)^2 window and the
+// current 3x3), or when the
+// reprojection error (the smallest over that previous window) exceeds
+// reprojection_tolerance px, or reprojection_median_factor
 // times the frame's median reprojection error when that is larger (under fast
 // rotation a rolling shutter and an imprecise motion move every static point off
 // together, a mover stands out of that level). The second term is what

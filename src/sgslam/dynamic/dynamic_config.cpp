@@ -29,6 +29,7 @@ void DynamicConfig::Validate(ConfigChecker& c) const {
   c.InRange("relax_steps", relax_steps, 0, 20);
   c.InRange("prior_cell", prior_cell, 0, 640);
   c.InRange("prior_memory", prior_memory, 1, 255);
+  c.InRange("depth_check_window", depth_check_window, 0, 5);
   c.InRange("confirm_static", confirm_static, 0.0, 1.0);
   c.Check(depth_motion == "pnp" || depth_motion == "tracker", "depth_motion", depth_motion, "must be pnp or tracker");
   c.InRange("motion_threshold", motion_threshold, 0.1, 50.0);
