@@ -131,6 +131,20 @@ TEST(DepthCheck, SkipsMissingDepthAndUnusedPairs) {
   EXPECT_TRUE(r[2].valid && r[2].moved);
 }
 
+// The tolerances a residual was judged with are reported (dynamic.confirm_static
+// compares against them); without a reprojection test nothing limits that error.
+TEST(DepthCheck, ReportsTheTolerancesItUsed) {
+  const Scene s = Make(CV_32F);
+  DynamicConfig c;
+  std::vector<DepthResidual> r = CheckDepth(s.prev, s.cur, {true, true, true}, s.in, c);
+  EXPECT_NEAR(r[0].depth_tolerance, c.depth_tolerance + c.depth_tolerance_quadratic * 2.5 * 2.5, 1e-6);
+  EXPECT_DOUBLE_EQ(r[0].reprojection_tolerance, c.reprojection_tolerance);  // three points: no median level
+  c.reprojection_tolerance = 0;
+  r = CheckDepth(s.prev, s.cur, {true, true, true}, s.in, c);
+  EXPECT_TRUE(std::isinf(r[0].reprojection_tolerance));
+  EXPECT_FALSE(r[1].moved);  // sideways only: no depth change, and no reprojection test
+}
+
 TEST(DepthCheck, UndistortFunctionIsAppliedToBothPoints) {
   Scene s = Make(CV_32F);
   // Points given shifted by +5 px, undistort removes the shift: same verdicts.

@@ -39,11 +39,12 @@ std::vector<DepthResidual> CheckDepth(const std::vector<cv::Point2f>& prev, cons
   const cv::Mat& d1 = input.cur_depth;
   if (d0.empty() || d1.empty()) return out;
   const Pinhole& K = input.K;
+  const int w = config.depth_check_window;
+  const int m0 = std::max(1, w);  // the previous window must lie inside the image
   for (size_t i = 0; i < prev.size(); ++i) {
     if (!use[i]) continue;
     const int x0 = cvRound(prev[i].x), y0 = cvRound(prev[i].y);
     const int x1 = cvRound(cur[i].x), y1 = cvRound(cur[i].y);
-    const int m0 = std::max(1, config.depth_check_window);
     if (x0 < m0 || y0 < m0 || x0 >= d0.cols - m0 || y0 >= d0.rows - m0) continue;
     if (x1 < 1 || y1 < 1 || x1 >= d1.cols - 1 || y1 >= d1.rows - 1) continue;
     if (!InRange(DepthAt(d0, x0, y0, input.depth_factor), config)) continue;
@@ -53,7 +54,6 @@ std::vector<DepthResidual> CheckDepth(const std::vector<cv::Point2f>& prev, cons
     // (against the current 3x3, below) and the smallest reprojection error count:
     // a static point next to a depth edge must not be flagged because rounding (or
     // fr1's depth-to-colour offset) picked the other surface.
-    const int w = config.depth_check_window;
     double best = std::numeric_limits<double>::infinity(), best_rep = best, z_at_best = 0;
     for (int py = -w; py <= w; ++py) {
       for (int px = -w; px <= w; ++px) {

@@ -25,6 +25,7 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <limits>
 #include <opencv2/core.hpp>
 #include <vector>
 
@@ -54,7 +55,9 @@ struct DepthResidual {
   double depth_error = 0;         // m, |z_pred - z_meas|
   double reprojection_error = 0;  // px
   double depth_tolerance = 0;         // m, the depth error allowed for this point
-  double reprojection_tolerance = 0;  // px, the reprojection error allowed in this frame
+  // px, the reprojection error allowed in this frame; infinity when the reprojection
+  // test is off (reprojection_tolerance 0), so that nothing reads it as "none allowed"
+  double reprojection_tolerance = std::numeric_limits<double>::infinity();
 };
 
 // One result per pair; pairs with use[i] false are skipped (valid false).

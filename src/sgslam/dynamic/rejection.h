@@ -99,7 +99,8 @@ struct PairSet {
 // (config.prior_cell); empty: no prior.
 struct DynamicPrior {
   int cell = 0;  // px
-  cv::Mat dynamic;  // CV_8U, one per cell, 1 = most of its keypoints were rejected
+  cv::Mat dynamic;  // CV_8U, one per cell: frames it stays dynamic (most of its keypoints rejected, or
+                    // their predecessors within prior_memory frames); 0 = static
   bool Dynamic(cv::Point2f p) const { return Memory(p) > 0; }
   int Memory(cv::Point2f p) const;  // frames the cell at p stays dynamic; 0: static or no prior
 };
