@@ -20,6 +20,7 @@ void CameraConfig::Validate(ConfigChecker& c) const {
   c.Positive("depth_factor", depth_factor);
   c.Positive("baseline_fx", baseline_fx);
   c.Positive("close_depth", close_depth);
+  c.InRange("readout", readout, 0.0, 1.0 / fps);
 }
 
 void DatasetConfig::Validate(ConfigChecker& c) const {
@@ -57,6 +58,7 @@ void TrackingConfig::Validate(ConfigChecker& c) const {
   c.InRange("trust_delay", trust_delay, 0.0, 60.0);
   c.InRange("trust_hits", trust_hits, 1, 1000);
   c.InRange("trust_min_points", trust_min_points, 3, 100000);
+  c.InRange("rolling_shutter_prior", rolling_shutter_prior, 1e-3, 100.0);
 }
 
 void MappingConfig::Validate(ConfigChecker& c) const {

@@ -31,6 +31,9 @@ struct CameraConfig {
   double depth_factor = 5000.0;  // raw depth units per metre (TUM and Bonn: 5000)
   double baseline_fx = 40.0;     // px*m, virtual stereo baseline times fx (ORB-SLAM2 "bf"), for u_r = u - bf/d
   double close_depth = 40.0;     // baselines; points closer than close_depth * bf / fx are "close" (ThDepth)
+  // s, rolling-shutter readout, first row to last (camera/rolling_shutter.h); 0: a
+  // global shutter. The tum_fr1 preset sets the Kinect's, measured on fr1_rpy.
+  double readout = 0.0;
 
   template <class V>
   void Visit(V&& v) {
@@ -49,6 +52,7 @@ struct CameraConfig {
     v("depth_factor", depth_factor, "raw depth units per metre");
     v("baseline_fx", baseline_fx, "px*m, virtual stereo baseline times fx");
     v("close_depth", close_depth, "baselines, near/far limit of depth points");
+    v("readout", readout, "s, rolling-shutter readout time, top row to bottom row; 0: global shutter");
   }
   void Validate(ConfigChecker& c) const;
 };
@@ -130,6 +134,11 @@ struct TrackingConfig {
   double trust_delay = 0.3;  // s
   int trust_hits = 2;        // late inlier matches that make a point trusted
   int trust_min_points = 20;  // trusted matches a frame needs to be fitted to them first; fewer: all matches
+  // With a rolling-shutter camera (camera.readout > 0), keypoints are first
+  // corrected with the predicted angular velocity; this corrects them again with
+  // the one of the frame's own pose and fits the pose once more.
+  bool rolling_shutter_refine = true;
+  double rolling_shutter_prior = 1.0;  // rad/s, sigma of the refined velocity around the predicted one
 
   template <class V>
   void Visit(V&& v) {
@@ -150,6 +159,8 @@ struct TrackingConfig {
     v("trust_delay", trust_delay, "s, age at which a map point's inlier matches start to earn it trust; 0: off");
     v("trust_hits", trust_hits, "late inlier matches that make a map point trusted");
     v("trust_min_points", trust_min_points, "trusted matches needed to fit a frame's pose to them first");
+    v("rolling_shutter_refine", rolling_shutter_refine, "fit the frame's angular velocity with its pose and correct the keypoints again");
+    v("rolling_shutter_prior", rolling_shutter_prior, "rad/s, sigma of the fitted angular velocity around the predicted one");
   }
   void Validate(ConfigChecker& c) const;
 };

@@ -62,6 +62,15 @@ void ReadValue(const fs::path& file, const std::string& key, const YAML::Node& n
 
 }  // namespace
 
+bool ConfigFileHasSection(const fs::path& file, const std::string& name) {
+  try {
+    const YAML::Node root = YAML::LoadFile(file.string());
+    return root.IsMap() && root[name];
+  } catch (const YAML::Exception&) {
+    return false;
+  }
+}
+
 void LoadConfigFile(const fs::path& file, Config& config) {
   std::error_code ec;
   if (!fs::is_regular_file(file, ec)) throw ConfigError("config file not found: " + file.string());

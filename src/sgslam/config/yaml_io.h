@@ -14,6 +14,10 @@ namespace sgslam {
 // throws ConfigError naming the file.
 void LoadConfigFile(const std::filesystem::path& file, Config& config);
 
+// Whether a config file has a top-level section `name` (false when it cannot be
+// read: LoadConfigFile reports that).
+bool ConfigFileHasSection(const std::filesystem::path& file, const std::string& name);
+
 // The effective configuration as YAML, each key with its unit as a comment.
 std::string ConfigToYaml(const Config& config);
 

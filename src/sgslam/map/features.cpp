@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "sgslam/camera/rolling_shutter.h"
+
 namespace sgslam {
 
 ImageBounds UndistortedBounds(const Camera& camera) {
@@ -18,7 +20,8 @@ std::shared_ptr<const Features> MakeFeatures(std::vector<cv::KeyPoint> keys, cv:
                                              const cv::Mat& depth_raw, std::shared_ptr<const Camera> camera,
                                              std::shared_ptr<const ScaleLevels> scale,
                                              std::vector<std::uint8_t> dynamic, std::vector<Detection> detections,
-                                             std::vector<std::uint8_t> unjudged) {
+                                             std::vector<std::uint8_t> unjudged,
+                                             const Eigen::Vector3d& angular_velocity) {
   auto f = std::make_shared<Features>();
   f->bounds = UndistortedBounds(*camera);
   f->keys = std::move(keys);
@@ -32,24 +35,38 @@ std::shared_ptr<const Features> MakeFeatures(std::vector<cv::KeyPoint> keys, cv:
   for (std::size_t i = 0; i < n; ++i) f->keys_un[i].pt = pts[i];
 
   f->depth.assign(n, -1.0f);
-  f->u_right.assign(n, -1.0f);
   for (std::size_t i = 0; i < n; ++i) {
     const int u = cvRound(f->keys[i].pt.x), v = cvRound(f->keys[i].pt.y);
     if (u < 0 || v < 0 || u >= depth_raw.cols || v >= depth_raw.rows) continue;
     const double d = camera->DepthMetres(depth_raw.at<std::uint16_t>(v, u));
-    if (d <= 0) continue;
-    f->depth[i] = static_cast<float>(d);
-    f->u_right[i] = static_cast<float>(f->keys_un[i].pt.x - camera->baseline_fx() / d);
+    if (d > 0) f->depth[i] = static_cast<float>(d);
   }
-  f->grid = FeatureGrid(f->keys_un, f->bounds);
+  f->camera = std::move(camera);
+  f->angular_velocity = Eigen::Vector3d::Zero();
+  CorrectRollingShutter(*f, angular_velocity);
   if (!dynamic.empty() && dynamic.size() != n) throw std::invalid_argument("MakeFeatures: one dynamic label per keypoint");
   f->dynamic = std::move(dynamic);
   if (!unjudged.empty() && unjudged.size() != n) throw std::invalid_argument("MakeFeatures: one unjudged flag per keypoint");
   f->unjudged = std::move(unjudged);
   f->detections = std::move(detections);
-  f->camera = std::move(camera);
   f->scale = std::move(scale);
   return f;
+}
+
+void CorrectRollingShutter(Features& f, const Eigen::Vector3d& angular_velocity) {
+  CorrectRollingShutter(*f.camera, f.keys, f.angular_velocity, angular_velocity, f.keys_un, f.depth);
+  f.angular_velocity = angular_velocity;
+  f.u_right.assign(f.size(), -1.0f);
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    if (f.depth[i] > 0) f.u_right[i] = static_cast<float>(f.keys_un[i].pt.x - f.camera->baseline_fx() / f.depth[i]);
+  }
+  f.grid = FeatureGrid(f.keys_un, f.bounds);
+}
+
+std::shared_ptr<const Features> WithRollingShutterCorrection(const Features& f, const Eigen::Vector3d& angular_velocity) {
+  auto out = std::make_shared<Features>(f);
+  CorrectRollingShutter(*out, angular_velocity);
+  return out;
 }
 
 }  // namespace sgslam

@@ -37,6 +37,9 @@ struct Features {
   // count such keypoints as static votes (dynamic_mask.h).
   std::vector<std::uint8_t> unjudged;
   std::vector<Detection> detections;
+  // rad/s, camera frame: the angular velocity keys_un, depth and u_right were
+  // corrected for the rolling shutter with (camera/rolling_shutter.h); zero: none.
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();
 
   std::size_t size() const { return keys.size(); }
   const std::uint8_t* descriptor(std::size_t i) const { return descriptors.ptr<std::uint8_t>(static_cast<int>(i)); }
@@ -50,14 +53,22 @@ struct Features {
 };
 
 // Undistorts the keypoints, looks up their depth (raw depth image registered to
-// the distorted RGB image, as in TUM and Bonn), and builds the grid. dynamic: one
-// label per keypoint, or empty for none.
+// the distorted RGB image, as in TUM and Bonn), corrects them for the rolling
+// shutter with angular_velocity when the camera has a readout time, and builds the
+// grid. dynamic: one label per keypoint, or empty for none.
 std::shared_ptr<const Features> MakeFeatures(std::vector<cv::KeyPoint> keys, cv::Mat descriptors,
                                              const cv::Mat& depth_raw, std::shared_ptr<const Camera> camera,
                                              std::shared_ptr<const ScaleLevels> scale,
                                              std::vector<std::uint8_t> dynamic = {},
                                              std::vector<Detection> detections = {},
-                                             std::vector<std::uint8_t> unjudged = {});
+                                             std::vector<std::uint8_t> unjudged = {},
+                                             const Eigen::Vector3d& angular_velocity = Eigen::Vector3d::Zero());
+
+// Corrects f's keypoints for the rolling shutter again, with a better angular
+// velocity (the tracker's, once the frame's pose is known): keys_un, depth,
+// u_right and the grid change, keypoint order and everything else stay.
+void CorrectRollingShutter(Features& f, const Eigen::Vector3d& angular_velocity);
+std::shared_ptr<const Features> WithRollingShutterCorrection(const Features& f, const Eigen::Vector3d& angular_velocity);
 
 // Bounds of the undistorted image (corners undistorted).
 ImageBounds UndistortedBounds(const Camera& camera);

@@ -148,6 +148,7 @@ std::string CameraYaml() {
          "  k3: 0.0\n"
          "  fps: 30.0\n"
          "  depth_factor: 5000.0\n"
+         "  readout: 0.0  # rendered with a global shutter\n"
          "# the ground-truth boxes in detections.txt stand in for the detector: a COCO\n"
          "# network does not know the textured stand-ins for people (use --config to change)\n"
          "detector:\n"

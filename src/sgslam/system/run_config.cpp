@@ -13,20 +13,26 @@ RunConfig ResolveRunConfig(const std::optional<fs::path>& config_file, const fs:
   RunConfig out;
   std::error_code ec;
   const fs::path local = dataset_dir / "sgslam.yaml";
-  if (config_file) {
-    LoadConfigFile(*config_file, out.config);
-    out.source = config_file->string();
-  } else if (fs::is_regular_file(local, ec)) {
-    LoadConfigFile(local, out.config);
-    out.source = local.string();
-  } else if (const auto preset = CameraPresetForFolder(dataset_dir)) {
-    out.config.camera = *CameraPreset(*preset);
-    out.source = "camera preset " + *preset + " (from the folder name)";
+  std::optional<fs::path> file = config_file;
+  if (!file && fs::is_regular_file(local, ec)) file = local;
+  const std::optional<std::string> preset = CameraPresetForFolder(dataset_dir);
+  // A file with a camera section describes the camera (keys it omits keep their
+  // generic defaults: a readout it does not give is a global shutter); a file
+  // without one, such as a panel's orb budget, keeps the camera of the folder.
+  if (file && ConfigFileHasSection(*file, "camera")) {
+    LoadConfigFile(*file, out.config);
+    out.source = file->string();
   } else {
-    out.source = "defaults (TUM fr1 camera)";
-    spdlog::warn("no --config given and the folder name '{}' names no known camera: using the TUM fr1 "
-                 "calibration; pass --config configs/<camera>.yaml if this is another camera",
-                 dataset_dir.filename().string());
+    out.config.camera = *CameraPreset(preset.value_or("tum_fr1"));
+    out.source = preset ? "camera preset " + *preset + " (from the folder name)" : "defaults (TUM fr1 camera)";
+    if (file) {
+      LoadConfigFile(*file, out.config);
+      out.source = file->string() + " + " + out.source;
+    } else if (!preset) {
+      spdlog::warn("no --config given and the folder name '{}' names no known camera: using the TUM fr1 "
+                   "calibration; pass --config configs/<camera>.yaml if this is another camera",
+                   dataset_dir.filename().string());
+    }
   }
   out.config.Validate(out.source);
   return out;

@@ -111,7 +111,8 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
   if (!dyn.judged) dyn.dynamic.clear(), dyn.unjudged.clear();
   Frame frame(frame_id, images.t,
               MakeFeatures(std::move(keys), std::move(descriptors), images.depth, camera_, scale_,
-                           std::move(dyn.dynamic), std::move(dyn.detections), std::move(dyn.unjudged)),
+                           std::move(dyn.dynamic), std::move(dyn.detections), std::move(dyn.unjudged),
+                           tracker_.PredictedAngularVelocity().value_or(Eigen::Vector3d::Zero())),
               gray);
   report.features = static_cast<int>(frame.size());
   report.keypoints.reserve(frame.size());

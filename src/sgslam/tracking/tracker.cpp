@@ -10,6 +10,7 @@
 #include "sgslam/dynamic/motion.h"
 #include "sgslam/features/matcher.h"
 #include "sgslam/optim/pose_optimizer.h"
+#include "sgslam/optim/rolling_shutter_pose.h"
 
 namespace sgslam {
 
@@ -70,6 +71,7 @@ TrackResult Tracker::Track(Frame& frame, bool mapping_idle, std::size_t mapping_
   frame.has_pose = true;
   frame.reference_kf = reference_kf_;
   velocity_ = frame.T_c_w * last_frame_.T_c_w.Inverse();
+  velocity_dt_ = ToSeconds(frame.t - last_frame_.t);
   has_velocity_ = last_frame_.has_pose;
 
   bool need_keyframe = false;
@@ -235,6 +237,7 @@ bool Tracker::TrackLocalMap(Frame& frame, TrackResult& result) {
   result.matches = static_cast<int>(std::count_if(frame.map_points.begin(), frame.map_points.end(),
                                                   [](const auto& p) { return p != nullptr; }));
   OptimizePose(frame);
+  RefineRollingShutter(frame);
   UpdateTrust(frame, trust_);
   result.trusted = CountTrustedInliers(frame);
   int inliers = 0;
@@ -246,6 +249,34 @@ bool Tracker::TrackLocalMap(Frame& frame, TrackResult& result) {
   }
   result.inliers = inliers;
   return inliers >= config_.tracking.min_local_inliers;
+}
+
+void Tracker::RefineRollingShutter(Frame& frame) {
+  const Features& f = *frame.features;
+  const double readout = f.camera->config().readout;
+  if (readout <= 0 || !config_.tracking.rolling_shutter_refine) return;
+  std::vector<optim::PoseObservation> obs;
+  std::vector<double> row_time;
+  for (std::size_t i = 0; i < frame.map_points.size(); ++i) {
+    const auto& p = frame.map_points[i];
+    if (!p || frame.outlier[i]) continue;
+    optim::PoseObservation o;
+    o.p_w = p->position();
+    o.uv = {f.keys_un[i].pt.x, f.keys_un[i].pt.y};
+    o.u_right = f.u_right[i];
+    o.inv_sigma2 = f.scale->inv_sigma2[static_cast<std::size_t>(f.keys_un[i].octave)];
+    obs.push_back(o);
+    row_time.push_back(RowTimeOffset(f.keys[i].pt.y, f.camera->height(), readout));
+  }
+  const Camera& cam = *f.camera;
+  const optim::Intrinsics K{cam.fx(), cam.fy(), cam.cx(), cam.cy(), cam.baseline_fx()};
+  optim::RollingShutterPoseOptions options;
+  options.prior_sigma = config_.tracking.rolling_shutter_prior;
+  const auto r = optim::OptimizePoseAndAngularVelocity(frame.T_c_w, obs, row_time, K, options);
+  if (!r.ok) return;
+  frame.features = WithRollingShutterCorrection(f, f.angular_velocity + r.delta);
+  frame.T_c_w = r.T_c_w;
+  OptimizePose(frame);  // classifies the matches again at the corrected keypoints
 }
 
 int Tracker::OptimizePose(Frame& frame) {

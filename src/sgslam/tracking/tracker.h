@@ -12,6 +12,7 @@
 #include <optional>
 #include <vector>
 
+#include "sgslam/camera/rolling_shutter.h"
 #include "sgslam/config/config.h"
 #include "sgslam/map/frame.h"
 #include "sgslam/map/map.h"
@@ -46,6 +47,12 @@ class Tracker {
     if (state_ != TrackState::kOk || !has_velocity_) return std::nullopt;
     return velocity_;
   }
+  // The camera-frame angular velocity (rad/s) of that prediction, for the rolling
+  // shutter correction of the next frame's keypoints; none when there is none.
+  std::optional<Eigen::Vector3d> PredictedAngularVelocity() const {
+    if (state_ != TrackState::kOk || !has_velocity_) return std::nullopt;
+    return AngularVelocity(velocity_, velocity_dt_);
+  }
 
  private:
   bool Initialize(Frame& frame, TrackResult& result);
@@ -53,6 +60,10 @@ class Tracker {
   bool TrackReferenceKeyFrame(Frame& frame, const std::shared_ptr<KeyFrame>& keyframe, TrackResult& result);
   bool Recover(Frame& frame, TrackResult& result);
   bool TrackLocalMap(Frame& frame, TrackResult& result);
+  // Corrects the frame's keypoints for the rolling shutter with the angular
+  // velocity of its own pose (the prediction lags by a frame) and fits the pose
+  // again, when the two differ enough to matter.
+  void RefineRollingShutter(Frame& frame);
   // Pose-only optimisation of the frame's matches; drops outliers; returns the
   // number of inliers that are map points.
   int OptimizePose(Frame& frame);
@@ -70,6 +81,7 @@ class Tracker {
   Frame last_frame_;
   bool has_velocity_ = false;
   SE3 velocity_;  // T_cur_last of the last two tracked frames
+  double velocity_dt_ = 0;  // s between them
   std::shared_ptr<KeyFrame> reference_kf_;
   SE3 last_T_c_r_;  // last frame's pose relative to its reference keyframe
   std::uint64_t last_keyframe_frame_id_ = 0;

@@ -1,0 +1,67 @@
+// Which configuration a run uses: --config, the folder's sgslam.yaml, the camera
+// preset of the folder name, and how they combine.
+#include "sgslam/system/run_config.h"
+
+#include <gtest/gtest.h>
+
+#include "sgslam/camera/presets.h"
+#include "sgslam/synth/writer.h"
+#include "support/test_support.h"
+
+namespace sgslam {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(RunConfig, AFolderOfAKnownCameraGetsItsPreset) {
+  test::TempDir tmp;
+  const fs::path dir = tmp / "rgbd_dataset_freiburg1_rpy";
+  fs::create_directories(dir);
+  const RunConfig rc = ResolveRunConfig(std::nullopt, dir);
+  EXPECT_DOUBLE_EQ(rc.config.camera.readout, CameraPreset("tum_fr1")->readout);
+  EXPECT_DOUBLE_EQ(rc.config.camera.readout, 0.03);
+}
+
+TEST(RunConfig, AnUnknownFolderGetsTheTumFr1Camera) {
+  test::TempDir tmp;
+  const RunConfig rc = ResolveRunConfig(std::nullopt, tmp.path());
+  EXPECT_DOUBLE_EQ(rc.config.camera.fx, CameraPreset("tum_fr1")->fx);
+  EXPECT_DOUBLE_EQ(rc.config.camera.readout, 0.03);
+}
+
+TEST(RunConfig, AConfigWithoutACameraSectionKeepsTheFoldersCamera) {
+  test::TempDir tmp;
+  const fs::path dir = tmp / "rgbd_dataset_freiburg2_xyz";
+  fs::create_directories(dir);
+  test::WriteText(tmp / "budget.yaml", "orb:\n  features: 900\n");
+  const RunConfig rc = ResolveRunConfig(tmp / "budget.yaml", dir);
+  EXPECT_EQ(rc.config.orb.features, 900);
+  EXPECT_DOUBLE_EQ(rc.config.camera.fx, CameraPreset("tum_fr2")->fx);
+  EXPECT_NE(rc.source.find("tum_fr2"), std::string::npos) << rc.source;
+
+  const RunConfig unknown = ResolveRunConfig(tmp / "budget.yaml", tmp.path());
+  EXPECT_DOUBLE_EQ(unknown.config.camera.readout, 0.03) << "the TUM fr1 camera, readout included";
+}
+
+TEST(RunConfig, AConfigWithACameraSectionDescribesTheCamera) {
+  test::TempDir tmp;
+  const fs::path dir = tmp / "rgbd_dataset_freiburg1_desk";
+  fs::create_directories(dir);
+  test::WriteText(tmp / "cam.yaml", "camera:\n  fx: 600.0\n");
+  const RunConfig rc = ResolveRunConfig(tmp / "cam.yaml", dir);
+  EXPECT_DOUBLE_EQ(rc.config.camera.fx, 600.0);
+  EXPECT_DOUBLE_EQ(rc.config.camera.readout, 0.0) << "a readout the file does not give is a global shutter";
+
+  // Synthetic sequences carry their (global-shutter) camera.
+  test::WriteText(dir / "sgslam.yaml", synth::CameraYaml());
+  EXPECT_DOUBLE_EQ(ResolveRunConfig(std::nullopt, dir).config.camera.readout, 0.0);
+}
+
+TEST(RunConfig, TheShippedTumFr1ConfigMatchesThePreset) {
+  const RunConfig rc = ResolveRunConfig(test::SourceDir() / "configs" / "tum_fr1.yaml", "/nonexistent/x");
+  EXPECT_DOUBLE_EQ(rc.config.camera.readout, CameraPreset("tum_fr1")->readout);
+  EXPECT_DOUBLE_EQ(rc.config.camera.fx, CameraPreset("tum_fr1")->fx);
+}
+
+}  // namespace
+}  // namespace sgslam
