@@ -93,6 +93,10 @@ RunSummary RunSequence(const RunOptions& o) {
   const bool has_detector = detector != nullptr;
   SlamSystem system(config, o.sequential, std::move(detector));
   spdlog::info("mode {}, detector: {}", config.dynamic.mode, system.DescribeDetector());
+  if (config.camera.readout > 0) {
+    spdlog::info("rolling shutter: rows read out over {:.0f} ms (camera.readout; 0 for a global shutter)",
+                 1000 * config.camera.readout);
+  }
   std::vector<FrameReport> reports;
   const eval::MaskIndex masks(dataset_dir);  // ground-truth dynamic masks, when the sequence has them
   std::optional<eval::MaskIndex> truth_masks;  // dynamic.truth_masks: masks that replace the verdicts
