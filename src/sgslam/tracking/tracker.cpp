@@ -252,7 +252,8 @@ bool Tracker::TrackLocalMap(Frame& frame, TrackResult& result) {
 }
 
 void Tracker::RefineRollingShutter(Frame& frame) {
-  const Features& f = *frame.features;
+  const std::shared_ptr<const Features> held = frame.features;  // f stays valid when replaced below
+  const Features& f = *held;
   const double readout = f.camera->config().readout;
   if (readout <= 0 || !config_.tracking.rolling_shutter_refine) return;
   std::vector<optim::PoseObservation> obs;
