@@ -1,12 +1,14 @@
 // Motion-only BA as tracking calls it (twice per frame): a start a few cm off,
 // 10 % outliers, ORB-SLAM2's 4 x 10 LM iterations. Target: < 1.5 ms for 500
-// stereo observations.
+// stereo observations. Also the rolling-shutter fit tracking adds once per frame
+// (pose and angular velocity, 5 LM iterations on the inliers).
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 #include <random>
 
 #include "sgslam/optim/pose_optimizer.h"
+#include "sgslam/optim/rolling_shutter_pose.h"
 
 namespace {
 
@@ -59,5 +61,16 @@ BENCHMARK(BM_OptimizePose)
     ->Args({300, 1})
     ->Args({1000, 1})
     ->Unit(benchmark::kMicrosecond);
+
+void BM_OptimizePoseAndAngularVelocity(benchmark::State& state) {
+  const Case c = MakeCase(static_cast<int>(state.range(0)), true);
+  std::vector<double> row_time;
+  for (const PoseObservation& o : c.obs) row_time.push_back((o.uv.y() / 480 - 0.5) * 0.03);
+  for (auto _ : state) {
+    const RollingShutterPoseResult r = OptimizePoseAndAngularVelocity(c.T_start, c.obs, row_time, kK);
+    benchmark::DoNotOptimize(r);
+  }
+}
+BENCHMARK(BM_OptimizePoseAndAngularVelocity)->ArgNames({"obs"})->Arg(300)->Arg(500)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
