@@ -135,8 +135,8 @@ struct TrackingConfig {
   int trust_hits = 2;        // late inlier matches that make a point trusted
   int trust_min_points = 20;  // trusted matches a frame needs to be fitted to them first; fewer: all matches
   // With a rolling-shutter camera (camera.readout > 0), keypoints are first
-  // corrected with the predicted angular velocity; this corrects them again with
-  // the one of the frame's own pose and fits the pose once more.
+  // corrected with the predicted angular velocity; this fits the frame's angular
+  // velocity together with its pose, corrects them again and fits the pose once more.
   bool rolling_shutter_refine = true;
   double rolling_shutter_prior = 1.0;  // rad/s, sigma of the refined velocity around the predicted one
 

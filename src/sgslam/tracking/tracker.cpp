@@ -14,6 +14,24 @@
 
 namespace sgslam {
 
+namespace {
+
+optim::Intrinsics IntrinsicsOf(const Camera& cam) {
+  return {cam.fx(), cam.fy(), cam.cx(), cam.cy(), cam.baseline_fx()};
+}
+
+// Keypoint i of f matched to map point p, as the pose optimisers take it.
+optim::PoseObservation PoseObservationOf(const Features& f, std::size_t i, const MapPoint& p) {
+  optim::PoseObservation o;
+  o.p_w = p.position();
+  o.uv = {f.keys_un[i].pt.x, f.keys_un[i].pt.y};
+  o.u_right = f.u_right[i];
+  o.inv_sigma2 = f.scale->inv_sigma2[static_cast<std::size_t>(f.keys_un[i].octave)];
+  return o;
+}
+
+}  // namespace
+
 const char* ToString(TrackState state) {
   switch (state) {
     case TrackState::kNotInitialized: return "not_initialized";
@@ -259,21 +277,13 @@ void Tracker::RefineRollingShutter(Frame& frame) {
   std::vector<optim::PoseObservation> obs;
   std::vector<double> row_time;
   for (std::size_t i = 0; i < frame.map_points.size(); ++i) {
-    const auto& p = frame.map_points[i];
-    if (!p || frame.outlier[i]) continue;
-    optim::PoseObservation o;
-    o.p_w = p->position();
-    o.uv = {f.keys_un[i].pt.x, f.keys_un[i].pt.y};
-    o.u_right = f.u_right[i];
-    o.inv_sigma2 = f.scale->inv_sigma2[static_cast<std::size_t>(f.keys_un[i].octave)];
-    obs.push_back(o);
+    if (!frame.map_points[i] || frame.outlier[i]) continue;
+    obs.push_back(PoseObservationOf(f, i, *frame.map_points[i]));
     row_time.push_back(RowTimeOffset(f.keys[i].pt.y, f.camera->height(), readout));
   }
-  const Camera& cam = *f.camera;
-  const optim::Intrinsics K{cam.fx(), cam.fy(), cam.cx(), cam.cy(), cam.baseline_fx()};
   optim::RollingShutterPoseOptions options;
   options.prior_sigma = config_.tracking.rolling_shutter_prior;
-  const auto r = optim::OptimizePoseAndAngularVelocity(frame.T_c_w, obs, row_time, K, options);
+  const auto r = optim::OptimizePoseAndAngularVelocity(frame.T_c_w, obs, row_time, IntrinsicsOf(*f.camera), options);
   if (!r.ok) return;
   frame.features = WithRollingShutterCorrection(f, f.angular_velocity + r.delta);
   frame.T_c_w = r.T_c_w;
@@ -282,7 +292,6 @@ void Tracker::RefineRollingShutter(Frame& frame) {
 
 int Tracker::OptimizePose(Frame& frame) {
   const Features& f = *frame.features;
-  const Camera& cam = *f.camera;
   std::vector<optim::PoseObservation> obs;
   std::vector<std::size_t> index;
   std::vector<bool> trusted;
@@ -290,18 +299,12 @@ int Tracker::OptimizePose(Frame& frame) {
     const auto& p = frame.map_points[i];
     if (!p) continue;
     trusted.push_back(p->track.trusted);
-    optim::PoseObservation o;
-    o.p_w = p->position();
-    o.uv = {f.keys_un[i].pt.x, f.keys_un[i].pt.y};
-    o.u_right = f.u_right[i];
-    o.inv_sigma2 = f.scale->inv_sigma2[static_cast<std::size_t>(f.keys_un[i].octave)];
-    obs.push_back(o);
+    obs.push_back(PoseObservationOf(f, i, *p));
     index.push_back(i);
   }
   std::fill(frame.outlier.begin(), frame.outlier.end(), 0);
   if (obs.size() < 3) return 0;
-  const optim::Intrinsics K{cam.fx(), cam.fy(), cam.cx(), cam.cy(), cam.baseline_fx()};
-  const auto r = OptimizePoseTrusted(frame.T_c_w, std::move(obs), trusted, K, trust_);
+  const auto r = OptimizePoseTrusted(frame.T_c_w, std::move(obs), trusted, IntrinsicsOf(*f.camera), trust_);
   frame.T_c_w = r.T_c_w;
   int inliers = 0;
   for (std::size_t k = 0; k < index.size(); ++k) {

@@ -60,9 +60,9 @@ class Tracker {
   bool TrackReferenceKeyFrame(Frame& frame, const std::shared_ptr<KeyFrame>& keyframe, TrackResult& result);
   bool Recover(Frame& frame, TrackResult& result);
   bool TrackLocalMap(Frame& frame, TrackResult& result);
-  // Corrects the frame's keypoints for the rolling shutter with the angular
-  // velocity of its own pose (the prediction lags by a frame) and fits the pose
-  // again, when the two differ enough to matter.
+  // With a rolling-shutter camera: fits the frame's pose and angular velocity
+  // together on its inliers (the prediction lags by a frame), corrects its
+  // keypoints with that velocity and fits the pose again.
   void RefineRollingShutter(Frame& frame);
   // Pose-only optimisation of the frame's matches; drops outliers; returns the
   // number of inliers that are map points.
