@@ -85,6 +85,7 @@ TEST(Features, AGlobalShutterCameraIgnoresTheAngularVelocity) {
     EXPECT_EQ(turned->keys_un[i].pt, plain->keys_un[i].pt);
     EXPECT_EQ(turned->depth[i], plain->depth[i]);
   }
+  EXPECT_EQ(turned->angular_velocity, Eigen::Vector3d::Zero()) << "nothing was corrected";
   ExpectConsistent(*turned);
 }
 

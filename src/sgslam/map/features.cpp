@@ -7,6 +7,23 @@
 
 namespace sgslam {
 
+namespace {
+
+// Moves keys_un and depth to the middle-row camera of a frame turning at
+// angular_velocity (from the one they were corrected with), then derives
+// u_right and the grid from them.
+void Correct(Features& f, const Eigen::Vector3d& angular_velocity) {
+  CorrectRollingShutter(*f.camera, f.keys, f.angular_velocity, angular_velocity, f.keys_un, f.depth);
+  if (f.camera->config().readout > 0) f.angular_velocity = angular_velocity;  // a global shutter: nothing moved
+  f.u_right.assign(f.size(), -1.0f);
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    if (f.depth[i] > 0) f.u_right[i] = static_cast<float>(f.keys_un[i].pt.x - f.camera->baseline_fx() / f.depth[i]);
+  }
+  f.grid = FeatureGrid(f.keys_un, f.bounds);
+}
+
+}  // namespace
+
 ImageBounds UndistortedBounds(const Camera& camera) {
   const float w = static_cast<float>(camera.width()), h = static_cast<float>(camera.height());
   if (!camera.has_distortion()) return {0.0, w, 0.0, h};
@@ -42,8 +59,7 @@ std::shared_ptr<const Features> MakeFeatures(std::vector<cv::KeyPoint> keys, cv:
     if (d > 0) f->depth[i] = static_cast<float>(d);
   }
   f->camera = std::move(camera);
-  f->angular_velocity = Eigen::Vector3d::Zero();
-  CorrectRollingShutter(*f, angular_velocity);
+  Correct(*f, angular_velocity);  // from zero: raw keypoints
   if (!dynamic.empty() && dynamic.size() != n) throw std::invalid_argument("MakeFeatures: one dynamic label per keypoint");
   f->dynamic = std::move(dynamic);
   if (!unjudged.empty() && unjudged.size() != n) throw std::invalid_argument("MakeFeatures: one unjudged flag per keypoint");
@@ -53,19 +69,9 @@ std::shared_ptr<const Features> MakeFeatures(std::vector<cv::KeyPoint> keys, cv:
   return f;
 }
 
-void CorrectRollingShutter(Features& f, const Eigen::Vector3d& angular_velocity) {
-  CorrectRollingShutter(*f.camera, f.keys, f.angular_velocity, angular_velocity, f.keys_un, f.depth);
-  f.angular_velocity = angular_velocity;
-  f.u_right.assign(f.size(), -1.0f);
-  for (std::size_t i = 0; i < f.size(); ++i) {
-    if (f.depth[i] > 0) f.u_right[i] = static_cast<float>(f.keys_un[i].pt.x - f.camera->baseline_fx() / f.depth[i]);
-  }
-  f.grid = FeatureGrid(f.keys_un, f.bounds);
-}
-
 std::shared_ptr<const Features> WithRollingShutterCorrection(const Features& f, const Eigen::Vector3d& angular_velocity) {
   auto out = std::make_shared<Features>(f);
-  CorrectRollingShutter(*out, angular_velocity);
+  Correct(*out, angular_velocity);
   return out;
 }
 

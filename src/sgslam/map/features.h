@@ -64,10 +64,9 @@ std::shared_ptr<const Features> MakeFeatures(std::vector<cv::KeyPoint> keys, cv:
                                              std::vector<std::uint8_t> unjudged = {},
                                              const Eigen::Vector3d& angular_velocity = Eigen::Vector3d::Zero());
 
-// Corrects f's keypoints for the rolling shutter again, with a better angular
-// velocity (the tracker's, once the frame's pose is known): keys_un, depth,
-// u_right and the grid change, keypoint order and everything else stay.
-void CorrectRollingShutter(Features& f, const Eigen::Vector3d& angular_velocity);
+// A copy of f with its keypoints corrected for the rolling shutter again, with a
+// better angular velocity (the tracker's, once the frame's pose is known):
+// keys_un, depth, u_right and the grid change, keypoint order and everything else stay.
 std::shared_ptr<const Features> WithRollingShutterCorrection(const Features& f, const Eigen::Vector3d& angular_velocity);
 
 // Bounds of the undistorted image (corners undistorted).
