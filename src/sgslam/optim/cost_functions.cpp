@@ -120,14 +120,7 @@ bool PoseRows(const Intrinsics& K, const PoseOnlyBatchCost::Item& item, const Ei
   const Eigen::Vector3d p_c = q * item.p_w + t;
   Eigen::Matrix<double, N, 3> J_pc;
   if (!ProjectionResidual<N>(K, item.m, p_c, r, J != nullptr ? &J_pc : nullptr)) return false;
-  const double s = Eigen::Map<const Eigen::Matrix<double, N, 1>>(r).squaredNorm(), d = item.huber_delta;
-  rho = s;
-  w = 1;
-  if (d > 0 && s > d * d) {  // Huber beyond delta: rho = 2 d sqrt(s) - d^2
-    const double root = std::sqrt(s);
-    rho = 2 * d * root - d * d;
-    w = d / root;
-  }
+  HuberCost(Eigen::Map<const Eigen::Matrix<double, N, 1>>(r).squaredNorm(), item.huber_delta, rho, w);
   if (J != nullptr) {
     // Exp([rho; phi]) * T moves p_c by rho + phi x p_c.
     J->template leftCols<3>() = J_pc;
@@ -204,18 +197,14 @@ bool PoseOnlyBatchCost::Evaluate(double const* const* parameters, double* residu
                                         : AccumulateNormal<2>(K_, item, q, t, want_J, c, H, g);
     if (!ok) return false;
   }
-  Eigen::Map<Eigen::Matrix<double, 7, 1>> out(residuals);
   if (!want_J) {
+    Eigen::Map<Eigen::Matrix<double, 7, 1>> out(residuals);
     out.setZero();
     out[0] = std::sqrt(c);
     return true;
   }
-  const Eigen::LLT<Eigen::Matrix<double, 6, 6>> llt(H);
-  if (llt.info() != Eigen::Success) return false;
-  const Eigen::Matrix<double, 6, 6> R = llt.matrixU();  // H = R^T R
-  const Eigen::Matrix<double, 6, 1> z = R.transpose().triangularView<Eigen::Lower>().solve(g);
-  out.head<6>() = z;
-  out[6] = std::sqrt(std::max(c - z.squaredNorm(), 0.0));
+  Eigen::Matrix<double, 6, 6> R;
+  if (!BatchRows<6>(H, g, c, residuals, R)) return false;
   // Ceres wants d r' / d x in the 7 ambient coordinates and multiplies by the
   // manifold's PlusJacobian P; MinusJacobian M has M P = I, so J' M gives J'.
   Eigen::Matrix<double, 6, 7, Eigen::RowMajor> M;

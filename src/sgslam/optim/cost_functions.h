@@ -14,7 +14,10 @@
 #include <ceres/cost_function.h>
 #include <ceres/sized_cost_function.h>
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 namespace sgslam::optim {
@@ -67,6 +70,35 @@ class BaReprojectionCost final : public ceres::SizedCostFunction<N, 7, 3> {
   Intrinsics K_;
   ReprojectionMeasurement m_;
 };
+
+// Huber's cost rho(s) of a squared residual s and its derivative w = rho'(s),
+// as ceres::HuberLoss(delta); delta <= 0: plain least squares (s and 1).
+inline void HuberCost(double s, double delta, double& rho, double& w) {
+  rho = s;
+  w = 1;
+  if (delta > 0 && s > delta * delta) {  // beyond delta: rho = 2 delta sqrt(s) - delta^2
+    const double root = std::sqrt(s);
+    rho = 2 * delta * root - delta * delta;
+    w = delta / root;
+  }
+}
+
+// The D + 1 rows a batched block hands Ceres for a problem with cost c, Gauss-
+// Newton matrix H and gradient g over D tangent parameters (PoseOnlyBatchCost
+// below): with H = R^T R, r' = [R^-T g; sqrt(c - |R^-T g|^2)] and J' = [R; 0].
+// False when H is not positive definite.
+template <int D>
+bool BatchRows(const Eigen::Matrix<double, D, D>& H, const Eigen::Matrix<double, D, 1>& g, double c,
+               double* residuals, Eigen::Matrix<double, D, D>& R) {
+  const Eigen::LLT<Eigen::Matrix<double, D, D>> llt(H);
+  if (llt.info() != Eigen::Success) return false;
+  R = llt.matrixU();
+  const Eigen::Matrix<double, D, 1> z = R.transpose().template triangularView<Eigen::Lower>().solve(g);
+  Eigen::Map<Eigen::Matrix<double, D + 1, 1>> out(residuals);
+  out.template head<D>() = z;
+  out[D] = std::sqrt(std::max(c - z.squaredNorm(), 0.0));
+  return true;
+}
 
 // Pose-only, every observation in one residual block of 7 rows. Ceres spends
 // most of a pose optimisation on bookkeeping proportional to the Jacobian's

@@ -4,7 +4,6 @@
 #include <ceres/problem.h>
 #include <ceres/solver.h>
 
-#include <Eigen/Cholesky>
 #include <Eigen/Geometry>
 #include <cmath>
 #include <stdexcept>
@@ -59,18 +58,14 @@ class RollingShutterBatchCost final : public ceres::CostFunction {
                                           : Accumulate<2>(item, q, t, delta, want_J, c, H, g);
       if (!ok) return false;
     }
-    Eigen::Map<Eigen::Matrix<double, 10, 1>> out(residuals);
     if (!want_J) {
+      Eigen::Map<Eigen::Matrix<double, 10, 1>> out(residuals);
       out.setZero();
       out[0] = std::sqrt(c);
       return true;
     }
-    const Eigen::LLT<Matrix9d> llt(H);
-    if (llt.info() != Eigen::Success) return false;
-    const Matrix9d R = llt.matrixU();
-    const Vector9d z = R.transpose().triangularView<Eigen::Lower>().solve(g);
-    out.head<9>() = z;
-    out[9] = std::sqrt(std::max(c - z.squaredNorm(), 0.0));
+    Matrix9d R;
+    if (!BatchRows<9>(H, g, c, residuals, R)) return false;
     if (jacobians[0] != nullptr) {
       Eigen::Matrix<double, 6, 7, Eigen::RowMajor> M;
       SE3LeftManifold().MinusJacobian(parameters[0], M.data());
@@ -96,13 +91,8 @@ class RollingShutterBatchCost final : public ceres::CostFunction {
     Eigen::Matrix<double, N, 1> r;
     Eigen::Matrix<double, N, 3> J_p;
     if (!ProjectionResidual<N>(K_, item.m, p, r.data(), want_J ? &J_p : nullptr)) return false;
-    const double s = r.squaredNorm(), d = item.huber_delta;
-    double rho = s, w = 1;
-    if (s > d * d) {  // Huber beyond delta
-      const double root = std::sqrt(s);
-      rho = 2 * d * root - d * d;
-      w = d / root;
-    }
+    double rho = 0, w = 1;
+    HuberCost(r.squaredNorm(), item.huber_delta, rho, w);
     c += rho;
     if (!want_J) return true;
     Eigen::Matrix<double, N, 9> J;
