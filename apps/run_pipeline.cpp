@@ -205,6 +205,7 @@ RunSummary RunSequence(const RunOptions& o) {
                      {"cloud_points", st.cloud_points},
                      {"cloud_points_removed_as_free", st.cloud_points_freed},
                      {"cloud_points_removed_as_seen_through", sem->inconsistent_points()},
+                     {"cloud_points_removed_as_seen_moving", sem->seen_moving_points()},
                      {"cloud_points_removed_as_seen_once", sem->unsupported_points()},
                      {"octomap_occupied_leaves", sem->octomap().OccupiedLeaves()},
                      {"objects", std::count_if(objects.begin(), objects.end(), [](const auto& e) { return e.exported; })}};

@@ -1,8 +1,8 @@
 // semantic.min_view_support: on export, a cloud point stays only when enough
 // keyframes put points near it. Five keyframes of a wall at 4 m from slightly
 // different places; a patch at 2 m is in one keyframe only (something that passed
-// through), another in three (something that stayed). The see-through filter is
-// off, so that this filter alone decides.
+// through), another in three (something that stayed). The see-through filter and
+// the border strip are off, so that this filter alone decides.
 #include <gtest/gtest.h>
 
 #include <shared_mutex>
@@ -27,6 +27,7 @@ Cloud BuildCloud(int min_view_support) {
   config.semantic.free_space_filter = false;
   config.semantic.box_window = 0;
   config.semantic.min_view_support = min_view_support;
+  config.semantic.cloud_border = 0;  // the whole wall, to the image edge
   Map map;
   SemanticMapper mapper(config, map, /*sequential=*/true);
   const auto camera = std::make_shared<Camera>(config.camera);

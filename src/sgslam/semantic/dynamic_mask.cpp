@@ -1,5 +1,7 @@
 #include "sgslam/semantic/dynamic_mask.h"
 
+#include "sgslam/semantic/box_window.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -76,7 +78,7 @@ void MaskMovingSegments(const cv::Mat& depth_raw, double depth_factor, const std
 cv::Mat DynamicPixelMask(const cv::Mat& depth_raw, double depth_factor, const std::vector<Detection>& detections,
                          const ClassTable& classes, const std::vector<cv::KeyPoint>& keys,
                          const std::vector<std::uint8_t>& rejected, const SemanticConfig& config,
-                         const std::vector<std::uint8_t>& unjudged) {
+                         const std::vector<std::uint8_t>& unjudged, double box_band) {
   cv::Mat mask = cv::Mat::zeros(depth_raw.size(), CV_8UC1);
   const cv::Rect image(0, 0, depth_raw.cols, depth_raw.rows);
   std::vector<cv::Rect> boxes;
@@ -89,7 +91,13 @@ cv::Mat DynamicPixelMask(const cv::Mat& depth_raw, double depth_factor, const st
                                    static_cast<int>(std::ceil(d.box.y + d.box.height + my))));
     const cv::Rect r = grown & image;
     if (r.area() <= 0) continue;
-    mask(r).setTo(255);
+    if (box_band > 0) {
+      // Only the object's surface: the pixels near the depth of the box's middle.
+      const double z = BoxMedianDepth(depth_raw, depth_factor, d.box);
+      if (z > 0) MaskCarriedBoxes({CarriedBox{cv::Rect2f(r), z}}, depth_raw, depth_factor, box_band, mask);
+    } else {
+      mask(r).setTo(255);
+    }
     boxes.push_back(r);
   }
   if (rejected.size() != keys.size()) return mask;

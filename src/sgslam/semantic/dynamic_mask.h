@@ -22,10 +22,12 @@
 
 namespace sgslam {
 
+// box_band > 0: of a dynamic box only the pixels within box_band m of the depth of
+// its middle (BoxMedianDepth), the object's surface rather than the background.
 // CV_8UC1, 255 = dynamic. keys: raw keypoint positions; rejected: one flag per key (or empty).
 cv::Mat DynamicPixelMask(const cv::Mat& depth_raw, double depth_factor, const std::vector<Detection>& detections,
                          const ClassTable& classes, const std::vector<cv::KeyPoint>& keys,
                          const std::vector<std::uint8_t>& rejected, const SemanticConfig& config,
-                         const std::vector<std::uint8_t>& unjudged = {});
+                         const std::vector<std::uint8_t>& unjudged = {}, double box_band = 0);
 
 }  // namespace sgslam

@@ -31,6 +31,9 @@ void SemanticConfig::Validate(ConfigChecker& c) const {
   c.InRange("consistency_min_votes", consistency_min_votes, 1, 1000);
   c.InRange("consistency_pool", consistency_pool, 1, 64);
   c.InRange("min_view_support", min_view_support, 1, 1000);
+  c.InRange("seen_moving_ratio", seen_moving_ratio, 0.0, 1000.0);
+  c.InRange("seen_moving_band", seen_moving_band, 0.0, 10.0);
+  c.InRange("cloud_border", cloud_border, 0, 1000);
   c.InRange("octomap_resolution", octomap_resolution, 0.005, 1.0);
   c.Check(octomap_hit > 0.5 && octomap_hit < 1.0, "octomap_hit", octomap_hit, "must be in (0.5, 1)");
   c.Check(octomap_miss > 0.0 && octomap_miss < 0.5, "octomap_miss", octomap_miss, "must be in (0, 0.5)");

@@ -21,15 +21,18 @@ namespace sgslam {
 namespace {
 
 // Min over factor x factor blocks of the valid depths (m), 0 where a block has none:
-// the nearest surface, so a see-through test never fires at a depth edge.
-cv::Mat MinPooledDepth(const cv::Mat& depth_raw, double depth_factor, int factor) {
+// the nearest surface, so a see-through test never fires at a depth edge. With a
+// mask, only the pixels it marks count.
+cv::Mat MinPooledDepth(const cv::Mat& depth_raw, double depth_factor, int factor, const cv::Mat& mask = cv::Mat()) {
   cv::Mat out = cv::Mat::zeros(depth_raw.rows / factor, depth_raw.cols / factor, CV_32F);
   for (int y = 0; y < out.rows; ++y) {
     for (int x = 0; x < out.cols; ++x) {
       std::uint16_t best = 0;
       for (int dy = 0; dy < factor; ++dy) {
         const std::uint16_t* row = depth_raw.ptr<std::uint16_t>(y * factor + dy) + x * factor;
+        const std::uint8_t* in = mask.empty() ? nullptr : mask.ptr<std::uint8_t>(y * factor + dy) + x * factor;
         for (int dx = 0; dx < factor; ++dx) {
+          if (in != nullptr && in[dx] == 0) continue;
           if (row[dx] != 0 && (best == 0 || row[dx] < best)) best = row[dx];
         }
       }
@@ -37,6 +40,16 @@ cv::Mat MinPooledDepth(const cv::Mat& depth_raw, double depth_factor, int factor
     }
   }
   return out;
+}
+
+// The pooled pixel (MinPooledDepth) that the camera-frame point q projects to; null
+// outside the image.
+const float* PooledAt(const cv::Mat& pooled, const Camera& camera, const Eigen::Vector3d& q, int factor) {
+  const Eigen::Vector2d uv = camera.Distort(camera.Project(q));
+  if (uv.x() < 0 || uv.y() < 0) return nullptr;
+  const int u = static_cast<int>(uv.x() / factor), v = static_cast<int>(uv.y() / factor);
+  if (u >= pooled.cols || v >= pooled.rows) return nullptr;
+  return &pooled.at<float>(v, u);
 }
 
 }  // namespace
@@ -180,6 +193,13 @@ void SemanticMapper::ProcessKeyFrame(const SemanticInput& input, const std::vect
   cv::Mat mask =
       DynamicPixelMask(input.depth, config_.camera.depth_factor, f.detections, classes_, f.keys, f.dynamic, c, f.unjudged);
   MaskCarriedBoxes(carried, input.depth, config_.camera.depth_factor, c.box_window_band, mask);
+  if (c.cloud_border > 0) {
+    // No keypoint (ORB's edge margin) and so no motion evidence reaches the border,
+    // and the detector misses the people it cuts: it stays out of the map.
+    const int b = std::min({c.cloud_border, mask.cols / 2, mask.rows / 2});
+    mask.rowRange(0, b).setTo(255), mask.rowRange(mask.rows - b, mask.rows).setTo(255);
+    mask.colRange(0, b).setTo(255), mask.colRange(mask.cols - b, mask.cols).setTo(255);
+  }
   ms.mask = stage.ElapsedMs();
 
   stage.Restart();
@@ -187,7 +207,17 @@ void SemanticMapper::ProcessKeyFrame(const SemanticInput& input, const std::vect
   cloud.keyframe = input.keyframe;
   cloud.points_c = VoxelDownsample(
       BackProject(input.bgr, input.depth, config_.camera.depth_factor, mask, rays_, c.cloud_stride, c), c.cloud_voxel);
-  if (c.consistency_filter) cloud.depth_pooled = MinPooledDepth(input.depth, config_.camera.depth_factor, c.consistency_pool);
+  if (c.consistency_filter || c.seen_moving_ratio > 0) {
+    cloud.depth_pooled = MinPooledDepth(input.depth, config_.camera.depth_factor, c.consistency_pool);
+  }
+  if (c.seen_moving_ratio > 0) {
+    // Where the mover itself was: of the dynamic boxes only their object's depth layer
+    // (a whole box would mark the background behind a person as seen moving).
+    cv::Mat surface = DynamicPixelMask(input.depth, config_.camera.depth_factor, f.detections, classes_, f.keys,
+                                       f.dynamic, c, f.unjudged, c.seen_moving_band);
+    MaskCarriedBoxes(carried, input.depth, config_.camera.depth_factor, c.seen_moving_band, surface);
+    cloud.moving_pooled = MinPooledDepth(input.depth, config_.camera.depth_factor, c.consistency_pool, surface);
+  }
   ms.cloud = stage.ElapsedMs();
 
   stage.Restart();
@@ -236,7 +266,7 @@ void SemanticMapper::FilterAndRebuild() {
   if (filtered_) return;
   filtered_ = true;
   const SemanticConfig& c = config_.semantic;
-  if (!c.consistency_filter && c.min_view_support <= 1) {
+  if (!c.consistency_filter && c.min_view_support <= 1 && c.seen_moving_ratio <= 0) {
     octomap_.Finalize();
     return;
   }
@@ -246,6 +276,7 @@ void SemanticMapper::FilterAndRebuild() {
     T_w_c[k] = T_c_w[k].Inverse();
   }
   if (c.consistency_filter) DropPointsSeenThrough(T_c_w, T_w_c);
+  if (c.seen_moving_ratio > 0) DropPointsSeenMoving(T_c_w, T_w_c);
   if (c.min_view_support > 1) DropPointsSeenOnce(T_w_c);
   // The live OctoMap saw the moving points too, with the poses of the time: build
   // it again from the points that passed and the final poses.
@@ -256,7 +287,6 @@ void SemanticMapper::FilterAndRebuild() {
 
 void SemanticMapper::DropPointsSeenThrough(const std::vector<SE3>& T_c_w, const std::vector<SE3>& T_w_c) {
   const SemanticConfig& c = config_.semantic;
-  const double pool = c.consistency_pool;
   for (std::size_t i = 0; i < clouds_.size(); ++i) {
     std::vector<ColoredPoint> kept;
     kept.reserve(clouds_[i].points_c.size());
@@ -267,16 +297,44 @@ void SemanticMapper::DropPointsSeenThrough(const std::vector<SE3>& T_c_w, const 
         if (j == i || clouds_[j].depth_pooled.empty()) continue;
         const Eigen::Vector3d q = T_c_w[j] * x;
         if (q.z() < c.depth_min || q.z() > c.depth_max) continue;
-        const Eigen::Vector2d uv = camera_->Distort(camera_->Project(q));
-        const int u = static_cast<int>(uv.x() / pool), v = static_cast<int>(uv.y() / pool);
-        const cv::Mat& d = clouds_[j].depth_pooled;
-        if (uv.x() < 0 || uv.y() < 0 || u >= d.cols || v >= d.rows) continue;
-        const float z = d.at<float>(v, u);
+        const float* z = PooledAt(clouds_[j].depth_pooled, *camera_, q, c.consistency_pool);
         const double tolerance = c.consistency_tolerance + c.consistency_tolerance_quadratic * q.z() * q.z();
-        if (z > 0 && z > q.z() + tolerance) ++through;  // keyframe j sees what lies behind the point
+        if (z != nullptr && *z > 0 && *z > q.z() + tolerance) ++through;  // keyframe j sees what lies behind the point
       }
       if (through >= c.consistency_min_votes) {
         ++inconsistent_;
+      } else {
+        kept.push_back(p);
+      }
+    }
+    clouds_[i].points_c.swap(kept);
+  }
+}
+
+void SemanticMapper::DropPointsSeenMoving(const std::vector<SE3>& T_c_w, const std::vector<SE3>& T_w_c) {
+  const SemanticConfig& c = config_.semantic;
+  for (std::size_t i = 0; i < clouds_.size(); ++i) {
+    std::vector<ColoredPoint> kept;
+    kept.reserve(clouds_[i].points_c.size());
+    for (const ColoredPoint& p : clouds_[i].points_c) {
+      const Eigen::Vector3d x = T_w_c[i] * p.p.cast<double>();
+      int moving = 0, still = 1;  // keyframe i saw it unmasked
+      for (std::size_t j = 0; j < clouds_.size(); ++j) {
+        if (j == i || clouds_[j].moving_pooled.empty()) continue;
+        const Eigen::Vector3d q = T_c_w[j] * x;
+        if (q.z() < c.depth_min || q.z() > c.depth_max) continue;
+        const float* zm = PooledAt(clouds_[j].moving_pooled, *camera_, q, c.consistency_pool);
+        if (zm == nullptr) continue;
+        const float* z = PooledAt(clouds_[j].depth_pooled, *camera_, q, c.consistency_pool);
+        const double tolerance = c.consistency_tolerance + c.consistency_tolerance_quadratic * q.z() * q.z();
+        if (*zm > 0 && std::abs(*zm - q.z()) <= tolerance) {
+          ++moving;  // keyframe j masked a mover right there
+        } else if (*z > 0 && std::abs(*z - q.z()) <= tolerance) {
+          ++still;  // keyframe j saw the surface there, unmasked
+        }
+      }
+      if (moving > 0 && moving >= c.seen_moving_ratio * still) {
+        ++seen_moving_;
       } else {
         kept.push_back(p);
       }

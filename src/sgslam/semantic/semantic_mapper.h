@@ -73,6 +73,7 @@ class SemanticMapper {
   void ExportCloud(std::vector<Eigen::Vector3d>& points, std::vector<Rgb>& colours);
   std::size_t inconsistent_points() const { return inconsistent_; }
   std::size_t unsupported_points() const { return unsupported_; }
+  std::size_t seen_moving_points() const { return seen_moving_; }
   // T_out_w: the frame to express the objects in (boxes are axis-aligned in it).
   std::vector<ObjectEstimate> ExportObjects(const SE3& T_out_w = SE3()) const;
   OctoMapBuilder& octomap() { return octomap_; }
@@ -116,6 +117,7 @@ class SemanticMapper {
     std::shared_ptr<KeyFrame> keyframe;
     std::vector<ColoredPoint> points_c;
     cv::Mat depth_pooled;  // m (CV_32F), min over consistency_pool^2 pixels of valid depth; 0 = none
+    cv::Mat moving_pooled;  // the same over the pixels the keyframe's dynamic mask marks
   };
   // Drops the points other keyframes see through (consistency_filter) and those
   // fewer than min_view_support keyframes saw (DropPointsSeenOnce), and rebuilds
@@ -124,6 +126,9 @@ class SemanticMapper {
   bool filtered_ = false;
   std::size_t inconsistent_ = 0;
   std::size_t unsupported_ = 0;
+  std::size_t seen_moving_ = 0;
+  // Drops the points that other keyframes masked as a mover often enough (seen_moving_ratio).
+  void DropPointsSeenMoving(const std::vector<SE3>& T_c_w, const std::vector<SE3>& T_w_c);
   // Drops the points at least consistency_min_votes other keyframes see through.
   void DropPointsSeenThrough(const std::vector<SE3>& T_c_w, const std::vector<SE3>& T_w_c);
   // Drops the points whose voxel neighbourhood fewer than min_view_support keyframes saw.

@@ -1,0 +1,126 @@
+// Two export-side guards of the static map (semantic_config.h):
+//  - semantic.seen_moving_ratio: a cloud point that other keyframes masked as a
+//    mover at its place, often enough against the times they saw it unmasked, is
+//    dropped. Five keyframes of a wall at 4 m; a person at 2 m stands in keyframes
+//    0-3 and the detector finds it in 0-2 only; a static patch at 2 m is in every
+//    keyframe and a person box (a false detection) covers it in keyframe 4 only.
+//  - semantic.cloud_border: the image border strip stays out of the cloud.
+// The other filters are off, so that each test sees its own alone.
+#include <gtest/gtest.h>
+
+#include <shared_mutex>
+
+#include "sgslam/map/features.h"
+#include "sgslam/map/keyframe.h"
+#include "sgslam/map/map.h"
+#include "sgslam/semantic/semantic_mapper.h"
+#include "semantic/semantic_scenes.h"
+
+namespace sgslam {
+namespace {
+
+const cv::Rect kPerson(100, 100, 60, 120);  // x ~ -0.9 m at 2 m
+const cv::Rect kStill(450, 300, 60, 60);    // x ~ +0.6 m at 2 m
+
+Detection PersonBox(const cv::Rect& r) {
+  Detection d;
+  d.class_name = "person";
+  d.score = 0.9f;
+  d.box = cv::Rect2f(r);
+  return d;
+}
+
+Config BaseConfig() {
+  Config config;
+  config.camera = test::PinholeCamera();
+  config.semantic.consistency_filter = false;
+  config.semantic.free_space_filter = false;
+  config.semantic.box_window = 0;
+  config.semantic.min_view_support = 1;
+  config.semantic.cloud_border = 0;
+  config.semantic.seen_moving_ratio = 0;
+  return config;
+}
+
+struct Cloud {
+  std::size_t wall = 0, person = 0, still = 0, dropped = 0;
+  std::vector<Eigen::Vector3d> points;
+};
+
+Cloud BuildCloud(const Config& config) {
+  Map map;
+  SemanticMapper mapper(config, map, /*sequential=*/true);
+  const auto camera = std::make_shared<Camera>(config.camera);
+  const auto scale = std::make_shared<ScaleLevels>(features::MakeScaleLevels(1.2, 8));
+  const cv::Mat bgr(480, 640, CV_8UC3, cv::Scalar(90, 120, 150));
+  for (int k = 0; k < 5; ++k) {
+    cv::Mat depth(480, 640, CV_16UC1, cv::Scalar(4 * 5000));
+    depth(kStill).setTo(2 * 5000);
+    std::vector<Detection> boxes;
+    if (k <= 3) depth(kPerson).setTo(2 * 5000);
+    if (k <= 2) boxes.push_back(PersonBox(kPerson));  // keyframe 3: the detector misses it
+    if (k == 4) boxes.push_back(PersonBox(kStill));   // a false detection on the static patch
+    auto f = MakeFeatures({}, cv::Mat(0, 32, CV_8U), depth, camera, scale, {}, boxes);
+    // The camera steps sideways by 5 mm a keyframe: the patches stay within a voxel.
+    const SE3 T_c_w(Eigen::Quaterniond::Identity(), Eigen::Vector3d(-0.005 * k, 0, 0));
+    auto kf = std::make_shared<KeyFrame>(map.NewKeyFrameId(), static_cast<std::uint64_t>(k), 0, f, T_c_w);
+    map.AddKeyFrame(kf);
+    mapper.Submit({kf, bgr, depth});
+  }
+  mapper.Finish();
+  Cloud c;
+  std::vector<Rgb> colours;
+  {
+    std::shared_lock lock(map.mutex());
+    mapper.ExportCloud(c.points, colours);
+  }
+  for (const Eigen::Vector3d& p : c.points) {
+    if (p.z() > 3.5) ++c.wall;
+    else if (p.x() < 0) ++c.person;
+    else ++c.still;
+  }
+  c.dropped = mapper.seen_moving_points();
+  return c;
+}
+
+TEST(SeenMoving, AMoverTheDetectorMissedInOneKeyframeLeavesTheCloud) {
+  const Cloud off = BuildCloud(BaseConfig());
+  EXPECT_GT(off.person, 50u);  // keyframe 3's view of the person
+  EXPECT_GT(off.still, 50u);
+  EXPECT_EQ(off.dropped, 0u);
+
+  Config config = BaseConfig();
+  config.semantic.seen_moving_ratio = 3;
+  const Cloud on = BuildCloud(config);
+  // Keyframes 0-2 masked a mover at the place keyframe 3 put the person: 3 >= 3 x 1.
+  EXPECT_EQ(on.person, 0u);
+  EXPECT_GT(on.dropped, 0u);
+  // The static patch: masked once (keyframe 4), seen unmasked by all five: it stays.
+  EXPECT_EQ(on.still, off.still);
+  // The wall behind the person's box is background, not the mover's depth layer.
+  EXPECT_EQ(on.wall, off.wall);
+
+  // A ratio the evidence does not reach keeps the person.
+  config.semantic.seen_moving_ratio = 4;
+  EXPECT_EQ(BuildCloud(config).person, off.person);
+}
+
+TEST(CloudBorder, TheBorderStripStaysOutOfTheCloud) {
+  Config config = BaseConfig();
+  const Cloud off = BuildCloud(config);
+  config.semantic.cloud_border = 24;
+  const Cloud on = BuildCloud(config);
+  EXPECT_LT(on.wall, off.wall);
+  EXPECT_GT(on.wall, off.wall / 2);
+  const Camera camera(config.camera);
+  // The first keyframe is at the origin; the others are at most 2 cm off, 2 px at 4 m.
+  int outside = 0;
+  for (const Eigen::Vector3d& p : on.points) {
+    const Eigen::Vector2d uv = camera.Project(p);
+    outside += uv.x() < 22 || uv.y() < 22 || uv.x() > 640 - 22 || uv.y() > 480 - 22;
+  }
+  EXPECT_EQ(outside, 0);
+}
+
+}  // namespace
+}  // namespace sgslam
