@@ -19,7 +19,7 @@ int Find(std::vector<int>& parent, int i) {
 // rejected, and most of its keypoints, is masked whole.
 void MaskMovingSegments(const cv::Mat& depth_raw, double depth_factor, const std::vector<cv::KeyPoint>& keys,
                         const std::vector<std::uint8_t>& rejected, const std::vector<std::uint8_t>& unjudged,
-                        const SemanticConfig& config, cv::Mat& mask) {
+                        const SemanticConfig& config, cv::Mat& mask, cv::Mat* also) {
   const int step = config.motion_segment_step;
   const int gw = (depth_raw.cols + step - 1) / step, gh = (depth_raw.rows + step - 1) / step;
   std::vector<float> z(static_cast<std::size_t>(gw) * gh);
@@ -67,42 +67,21 @@ void MaskMovingSegments(const cv::Mat& depth_raw, double depth_factor, const std
   for (std::size_t i = 0; i < z.size(); ++i) cell[i] = z[i] > 0 && moving[Find(parent, static_cast<int>(i))];
   for (int y = 0; y < depth_raw.rows; ++y) {
     std::uint8_t* m = mask.ptr<std::uint8_t>(y);
+    std::uint8_t* a = also != nullptr ? also->ptr<std::uint8_t>(y) : nullptr;
     const std::uint8_t* row = &cell[static_cast<std::size_t>(std::min(gh - 1, (y + step / 2) / step)) * gw];
-    for (int x = 0; x < depth_raw.cols; ++x)
-      if (row[std::min(gw - 1, (x + step / 2) / step)]) m[x] = 255;
+    for (int x = 0; x < depth_raw.cols; ++x) {
+      if (!row[std::min(gw - 1, (x + step / 2) / step)]) continue;
+      m[x] = 255;
+      if (a != nullptr) a[x] = 255;
+    }
   }
 }
 
-}  // namespace
-
-cv::Mat DynamicPixelMask(const cv::Mat& depth_raw, double depth_factor, const std::vector<Detection>& detections,
-                         const ClassTable& classes, const std::vector<cv::KeyPoint>& keys,
-                         const std::vector<std::uint8_t>& rejected, const SemanticConfig& config,
-                         const std::vector<std::uint8_t>& unjudged, double box_band) {
-  cv::Mat mask = cv::Mat::zeros(depth_raw.size(), CV_8UC1);
+// Around each rejected keypoint not masked yet, the pixels within motion_radius whose
+// depth lies within motion_depth_band of the keypoint's.
+void MaskAroundRejected(const cv::Mat& depth_raw, double depth_factor, const std::vector<cv::KeyPoint>& keys,
+                        const std::vector<std::uint8_t>& rejected, const SemanticConfig& config, cv::Mat& mask) {
   const cv::Rect image(0, 0, depth_raw.cols, depth_raw.rows);
-  std::vector<cv::Rect> boxes;
-  for (const Detection& d : detections) {
-    if (!classes.is_dynamic(d.class_name)) continue;
-    const float mx = d.box.width * static_cast<float>(config.box_margin);
-    const float my = d.box.height * static_cast<float>(config.box_margin);
-    const cv::Rect grown(cv::Point(static_cast<int>(std::floor(d.box.x - mx)), static_cast<int>(std::floor(d.box.y - my))),
-                         cv::Point(static_cast<int>(std::ceil(d.box.x + d.box.width + mx)),
-                                   static_cast<int>(std::ceil(d.box.y + d.box.height + my))));
-    const cv::Rect r = grown & image;
-    if (r.area() <= 0) continue;
-    if (box_band > 0) {
-      // Only the object's surface: the pixels near the depth of the box's middle.
-      const double z = BoxMedianDepth(depth_raw, depth_factor, d.box);
-      if (z > 0) MaskCarriedBoxes({CarriedBox{cv::Rect2f(r), z}}, depth_raw, depth_factor, box_band, mask);
-    } else {
-      mask(r).setTo(255);
-    }
-    boxes.push_back(r);
-  }
-  if (rejected.size() != keys.size()) return mask;
-  if (config.motion_segments) MaskMovingSegments(depth_raw, depth_factor, keys, rejected, unjudged, config, mask);
-  if (config.motion_radius <= 0) return mask;
   const int radius = config.motion_radius;
   const double band_raw = config.motion_depth_band * depth_factor;
   for (std::size_t i = 0; i < keys.size(); ++i) {
@@ -124,6 +103,38 @@ cv::Mat DynamicPixelMask(const cv::Mat& depth_raw, double depth_factor, const st
       }
     }
   }
+}
+
+}  // namespace
+
+cv::Mat DynamicPixelMask(const cv::Mat& depth_raw, double depth_factor, const std::vector<Detection>& detections,
+                         const ClassTable& classes, const std::vector<cv::KeyPoint>& keys,
+                         const std::vector<std::uint8_t>& rejected, const SemanticConfig& config,
+                         const std::vector<std::uint8_t>& unjudged, cv::Mat* surface) {
+  cv::Mat mask = cv::Mat::zeros(depth_raw.size(), CV_8UC1);
+  if (surface != nullptr) *surface = cv::Mat::zeros(depth_raw.size(), CV_8UC1);
+  const cv::Rect image(0, 0, depth_raw.cols, depth_raw.rows);
+  for (const Detection& d : detections) {
+    if (!classes.is_dynamic(d.class_name)) continue;
+    const float mx = d.box.width * static_cast<float>(config.box_margin);
+    const float my = d.box.height * static_cast<float>(config.box_margin);
+    const cv::Rect grown(cv::Point(static_cast<int>(std::floor(d.box.x - mx)), static_cast<int>(std::floor(d.box.y - my))),
+                         cv::Point(static_cast<int>(std::ceil(d.box.x + d.box.width + mx)),
+                                   static_cast<int>(std::ceil(d.box.y + d.box.height + my))));
+    const cv::Rect r = grown & image;
+    if (r.area() <= 0) continue;
+    mask(r).setTo(255);
+    if (surface != nullptr) {
+      // Only the object's surface: the pixels near the depth of the box's middle.
+      const double z = BoxMedianDepth(depth_raw, depth_factor, d.box);
+      if (z > 0) MaskCarriedBoxes({CarriedBox{cv::Rect2f(r), z}}, depth_raw, depth_factor, config.seen_moving_band, *surface);
+    }
+  }
+  if (rejected.size() != keys.size()) return mask;
+  if (config.motion_segments) MaskMovingSegments(depth_raw, depth_factor, keys, rejected, unjudged, config, mask, surface);
+  if (config.motion_radius <= 0) return mask;
+  MaskAroundRejected(depth_raw, depth_factor, keys, rejected, config, mask);
+  if (surface != nullptr) MaskAroundRejected(depth_raw, depth_factor, keys, rejected, config, *surface);
   return mask;
 }
 

@@ -22,12 +22,13 @@
 
 namespace sgslam {
 
-// box_band > 0: of a dynamic box only the pixels within box_band m of the depth of
-// its middle (BoxMedianDepth), the object's surface rather than the background.
 // CV_8UC1, 255 = dynamic. keys: raw keypoint positions; rejected: one flag per key (or empty).
+// surface (optional): the same mask but with, of each dynamic box, only the pixels
+// within seen_moving_band m of the depth of its middle (BoxMedianDepth): where the
+// mover itself was, not the background its box frames.
 cv::Mat DynamicPixelMask(const cv::Mat& depth_raw, double depth_factor, const std::vector<Detection>& detections,
                          const ClassTable& classes, const std::vector<cv::KeyPoint>& keys,
                          const std::vector<std::uint8_t>& rejected, const SemanticConfig& config,
-                         const std::vector<std::uint8_t>& unjudged = {}, double box_band = 0);
+                         const std::vector<std::uint8_t>& unjudged = {}, cv::Mat* surface = nullptr);
 
 }  // namespace sgslam

@@ -190,9 +190,14 @@ void SemanticMapper::ProcessKeyFrame(const SemanticInput& input, const std::vect
   }
   StageMs ms{};
   Stopwatch stage;
-  cv::Mat mask =
-      DynamicPixelMask(input.depth, config_.camera.depth_factor, f.detections, classes_, f.keys, f.dynamic, c, f.unjudged);
+  // surface: where the movers themselves were, for the seen-moving filter (a whole
+  // box would mark the background behind a person as seen moving).
+  cv::Mat surface;
+  const bool seen_moving = c.seen_moving_ratio > 0;
+  cv::Mat mask = DynamicPixelMask(input.depth, config_.camera.depth_factor, f.detections, classes_, f.keys, f.dynamic,
+                                  c, f.unjudged, seen_moving ? &surface : nullptr);
   MaskCarriedBoxes(carried, input.depth, config_.camera.depth_factor, c.box_window_band, mask);
+  if (seen_moving) MaskCarriedBoxes(carried, input.depth, config_.camera.depth_factor, c.seen_moving_band, surface);
   if (c.cloud_border > 0) {
     // No keypoint (ORB's edge margin) and so no motion evidence reaches the border,
     // and the detector misses the people it cuts: it stays out of the map.
@@ -207,17 +212,10 @@ void SemanticMapper::ProcessKeyFrame(const SemanticInput& input, const std::vect
   cloud.keyframe = input.keyframe;
   cloud.points_c = VoxelDownsample(
       BackProject(input.bgr, input.depth, config_.camera.depth_factor, mask, rays_, c.cloud_stride, c), c.cloud_voxel);
-  if (c.consistency_filter || c.seen_moving_ratio > 0) {
+  if (c.consistency_filter || seen_moving) {
     cloud.depth_pooled = MinPooledDepth(input.depth, config_.camera.depth_factor, c.consistency_pool);
   }
-  if (c.seen_moving_ratio > 0) {
-    // Where the mover itself was: of the dynamic boxes only their object's depth layer
-    // (a whole box would mark the background behind a person as seen moving).
-    cv::Mat surface = DynamicPixelMask(input.depth, config_.camera.depth_factor, f.detections, classes_, f.keys,
-                                       f.dynamic, c, f.unjudged, c.seen_moving_band);
-    MaskCarriedBoxes(carried, input.depth, config_.camera.depth_factor, c.seen_moving_band, surface);
-    cloud.moving_pooled = MinPooledDepth(input.depth, config_.camera.depth_factor, c.consistency_pool, surface);
-  }
+  if (seen_moving) cloud.moving_pooled = MinPooledDepth(input.depth, config_.camera.depth_factor, c.consistency_pool, surface);
   ms.cloud = stage.ElapsedMs();
 
   stage.Restart();
