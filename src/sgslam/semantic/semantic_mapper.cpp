@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <shared_mutex>
 #include <unordered_map>
 #include <unordered_set>
@@ -42,14 +43,14 @@ cv::Mat MinPooledDepth(const cv::Mat& depth_raw, double depth_factor, int factor
   return out;
 }
 
-// The pooled pixel (MinPooledDepth) that the camera-frame point q projects to; null
-// outside the image.
-const float* PooledAt(const cv::Mat& pooled, const Camera& camera, const Eigen::Vector3d& q, int factor) {
+// The pixel of a pooled image (MinPooledDepth, of size `pooled`) that the
+// camera-frame point q projects to; none outside the image.
+std::optional<cv::Point> PooledPixel(cv::Size pooled, const Camera& camera, const Eigen::Vector3d& q, int factor) {
   const Eigen::Vector2d uv = camera.Distort(camera.Project(q));
-  if (uv.x() < 0 || uv.y() < 0) return nullptr;
-  const int u = static_cast<int>(uv.x() / factor), v = static_cast<int>(uv.y() / factor);
-  if (u >= pooled.cols || v >= pooled.rows) return nullptr;
-  return &pooled.at<float>(v, u);
+  if (uv.x() < 0 || uv.y() < 0) return std::nullopt;
+  const cv::Point px(static_cast<int>(uv.x() / factor), static_cast<int>(uv.y() / factor));
+  if (px.x >= pooled.width || px.y >= pooled.height) return std::nullopt;
+  return px;
 }
 
 }  // namespace
@@ -273,8 +274,7 @@ void SemanticMapper::FilterAndRebuild() {
     T_c_w[k] = clouds_[k].keyframe->PlacedT_c_w();
     T_w_c[k] = T_c_w[k].Inverse();
   }
-  if (c.consistency_filter) DropPointsSeenThrough(T_c_w, T_w_c);
-  if (c.seen_moving_ratio > 0) DropPointsSeenMoving(T_c_w, T_w_c);
+  if (c.consistency_filter || c.seen_moving_ratio > 0) DropPointsOtherViewsContradict(T_c_w, T_w_c);
   if (c.min_view_support > 1) DropPointsSeenOnce(T_w_c);
   // The live OctoMap saw the moving points too, with the poses of the time: build
   // it again from the points that passed and the final poses.
@@ -283,55 +283,37 @@ void SemanticMapper::FilterAndRebuild() {
   octomap_.Finalize();
 }
 
-void SemanticMapper::DropPointsSeenThrough(const std::vector<SE3>& T_c_w, const std::vector<SE3>& T_w_c) {
+void SemanticMapper::DropPointsOtherViewsContradict(const std::vector<SE3>& T_c_w, const std::vector<SE3>& T_w_c) {
   const SemanticConfig& c = config_.semantic;
+  const bool seen_moving = c.seen_moving_ratio > 0;
   for (std::size_t i = 0; i < clouds_.size(); ++i) {
     std::vector<ColoredPoint> kept;
     kept.reserve(clouds_[i].points_c.size());
     for (const ColoredPoint& p : clouds_[i].points_c) {
       const Eigen::Vector3d x = T_w_c[i] * p.p.cast<double>();
-      int through = 0;
-      for (std::size_t j = 0; j < clouds_.size() && through < c.consistency_min_votes; ++j) {
+      int through = 0, moving = 0, still = 1;  // keyframe i saw it, unmasked
+      for (std::size_t j = 0; j < clouds_.size(); ++j) {
         if (j == i || clouds_[j].depth_pooled.empty()) continue;
         const Eigen::Vector3d q = T_c_w[j] * x;
         if (q.z() < c.depth_min || q.z() > c.depth_max) continue;
-        const float* z = PooledAt(clouds_[j].depth_pooled, *camera_, q, c.consistency_pool);
+        const std::optional<cv::Point> px = PooledPixel(clouds_[j].depth_pooled.size(), *camera_, q, c.consistency_pool);
+        if (!px) continue;
+        const float z = clouds_[j].depth_pooled.at<float>(*px);
         const double tolerance = c.consistency_tolerance + c.consistency_tolerance_quadratic * q.z() * q.z();
-        if (z != nullptr && *z > 0 && *z > q.z() + tolerance) ++through;  // keyframe j sees what lies behind the point
-      }
-      if (through >= c.consistency_min_votes) {
-        ++inconsistent_;
-      } else {
-        kept.push_back(p);
-      }
-    }
-    clouds_[i].points_c.swap(kept);
-  }
-}
-
-void SemanticMapper::DropPointsSeenMoving(const std::vector<SE3>& T_c_w, const std::vector<SE3>& T_w_c) {
-  const SemanticConfig& c = config_.semantic;
-  for (std::size_t i = 0; i < clouds_.size(); ++i) {
-    std::vector<ColoredPoint> kept;
-    kept.reserve(clouds_[i].points_c.size());
-    for (const ColoredPoint& p : clouds_[i].points_c) {
-      const Eigen::Vector3d x = T_w_c[i] * p.p.cast<double>();
-      int moving = 0, still = 1;  // keyframe i saw it unmasked
-      for (std::size_t j = 0; j < clouds_.size(); ++j) {
-        if (j == i || clouds_[j].moving_pooled.empty()) continue;
-        const Eigen::Vector3d q = T_c_w[j] * x;
-        if (q.z() < c.depth_min || q.z() > c.depth_max) continue;
-        const float* zm = PooledAt(clouds_[j].moving_pooled, *camera_, q, c.consistency_pool);
-        if (zm == nullptr) continue;
-        const float* z = PooledAt(clouds_[j].depth_pooled, *camera_, q, c.consistency_pool);
-        const double tolerance = c.consistency_tolerance + c.consistency_tolerance_quadratic * q.z() * q.z();
-        if (*zm > 0 && std::abs(*zm - q.z()) <= tolerance) {
+        if (c.consistency_filter && z > 0 && z > q.z() + tolerance) {
+          if (++through >= c.consistency_min_votes) break;  // keyframe j sees what lies behind the point
+        }
+        if (!seen_moving) continue;
+        const float zm = clouds_[j].moving_pooled.at<float>(*px);
+        if (zm > 0 && std::abs(zm - q.z()) <= tolerance) {
           ++moving;  // keyframe j masked a mover right there
-        } else if (*z > 0 && std::abs(*z - q.z()) <= tolerance) {
+        } else if (z > 0 && std::abs(z - q.z()) <= tolerance) {
           ++still;  // keyframe j saw the surface there, unmasked
         }
       }
-      if (moving > 0 && moving >= c.seen_moving_ratio * still) {
+      if (c.consistency_filter && through >= c.consistency_min_votes) {
+        ++inconsistent_;
+      } else if (seen_moving && moving > 0 && moving >= c.seen_moving_ratio * still) {
         ++seen_moving_;
       } else {
         kept.push_back(p);

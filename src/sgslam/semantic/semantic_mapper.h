@@ -127,10 +127,10 @@ class SemanticMapper {
   std::size_t inconsistent_ = 0;
   std::size_t unsupported_ = 0;
   std::size_t seen_moving_ = 0;
-  // Drops the points that other keyframes masked as a mover often enough (seen_moving_ratio).
-  void DropPointsSeenMoving(const std::vector<SE3>& T_c_w, const std::vector<SE3>& T_w_c);
-  // Drops the points at least consistency_min_votes other keyframes see through.
-  void DropPointsSeenThrough(const std::vector<SE3>& T_c_w, const std::vector<SE3>& T_w_c);
+  // One pass over the other keyframes' pooled depths: drops the points that at least
+  // consistency_min_votes of them see through (consistency_filter), then those they
+  // masked as a mover often enough (seen_moving_ratio).
+  void DropPointsOtherViewsContradict(const std::vector<SE3>& T_c_w, const std::vector<SE3>& T_w_c);
   // Drops the points whose voxel neighbourhood fewer than min_view_support keyframes saw.
   void DropPointsSeenOnce(const std::vector<SE3>& T_w_c);
   std::vector<std::vector<ColoredPoint>> ray_points_;  // per cloud: the free-space ray ends, for the rebuild
