@@ -8,13 +8,9 @@
 // The other filters are off, so that each test sees its own alone.
 #include <gtest/gtest.h>
 
-#include <shared_mutex>
-
-#include "sgslam/map/features.h"
-#include "sgslam/map/keyframe.h"
-#include "sgslam/map/map.h"
-#include "sgslam/semantic/semantic_mapper.h"
+#include "sgslam/camera/camera.h"
 #include "semantic/semantic_scenes.h"
+#include "semantic/stepped_keyframes.h"
 
 namespace sgslam {
 namespace {
@@ -48,38 +44,25 @@ struct Cloud {
 };
 
 Cloud BuildCloud(const Config& config) {
-  Map map;
-  SemanticMapper mapper(config, map, /*sequential=*/true);
-  const auto camera = std::make_shared<Camera>(config.camera);
-  const auto scale = std::make_shared<ScaleLevels>(features::MakeScaleLevels(1.2, 8));
-  const cv::Mat bgr(480, 640, CV_8UC3, cv::Scalar(90, 120, 150));
+  std::vector<cv::Mat> depths;
+  std::vector<std::vector<Detection>> boxes(5);
   for (int k = 0; k < 5; ++k) {
     cv::Mat depth(480, 640, CV_16UC1, cv::Scalar(4 * 5000));
     depth(kStill).setTo(2 * 5000);
-    std::vector<Detection> boxes;
     if (k <= 3) depth(kPerson).setTo(2 * 5000);
-    if (k <= 2) boxes.push_back(PersonBox(kPerson));  // keyframe 3: the detector misses it
-    if (k == 4) boxes.push_back(PersonBox(kStill));   // a false detection on the static patch
-    auto f = MakeFeatures({}, cv::Mat(0, 32, CV_8U), depth, camera, scale, {}, boxes);
-    // The camera steps sideways by 5 mm a keyframe: the patches stay within a voxel.
-    const SE3 T_c_w(Eigen::Quaterniond::Identity(), Eigen::Vector3d(-0.005 * k, 0, 0));
-    auto kf = std::make_shared<KeyFrame>(map.NewKeyFrameId(), static_cast<std::uint64_t>(k), 0, f, T_c_w);
-    map.AddKeyFrame(kf);
-    mapper.Submit({kf, bgr, depth});
+    if (k <= 2) boxes[k].push_back(PersonBox(kPerson));  // keyframe 3: the detector misses it
+    if (k == 4) boxes[k].push_back(PersonBox(kStill));   // a false detection on the static patch
+    depths.push_back(depth);
   }
-  mapper.Finish();
+  const test::SteppedCloud cloud = test::ExportSteppedKeyframes(config, depths, boxes);
   Cloud c;
-  std::vector<Rgb> colours;
-  {
-    std::shared_lock lock(map.mutex());
-    mapper.ExportCloud(c.points, colours);
-  }
+  c.points = cloud.points;
   for (const Eigen::Vector3d& p : c.points) {
     if (p.z() > 3.5) ++c.wall;
     else if (p.x() < 0) ++c.person;
     else ++c.still;
   }
-  c.dropped = mapper.seen_moving_points();
+  c.dropped = cloud.seen_moving;
   return c;
 }
 

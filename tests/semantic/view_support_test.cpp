@@ -5,13 +5,8 @@
 // the border strip are off, so that this filter alone decides.
 #include <gtest/gtest.h>
 
-#include <shared_mutex>
-
-#include "sgslam/map/features.h"
-#include "sgslam/map/keyframe.h"
-#include "sgslam/map/map.h"
-#include "sgslam/semantic/semantic_mapper.h"
 #include "semantic/semantic_scenes.h"
+#include "semantic/stepped_keyframes.h"
 
 namespace sgslam {
 namespace {
@@ -28,36 +23,21 @@ Cloud BuildCloud(int min_view_support) {
   config.semantic.box_window = 0;
   config.semantic.min_view_support = min_view_support;
   config.semantic.cloud_border = 0;  // the whole wall, to the image edge
-  Map map;
-  SemanticMapper mapper(config, map, /*sequential=*/true);
-  const auto camera = std::make_shared<Camera>(config.camera);
-  const auto scale = std::make_shared<ScaleLevels>(features::MakeScaleLevels(1.2, 8));
-  const cv::Mat bgr(480, 640, CV_8UC3, cv::Scalar(90, 120, 150));
+  std::vector<cv::Mat> depths;
   for (int k = 0; k < 5; ++k) {
     cv::Mat depth(480, 640, CV_16UC1, cv::Scalar(4 * 5000));
     if (k == 2) depth(cv::Rect(100, 100, 60, 60)).setTo(2 * 5000);  // passing: x ~ -0.9 m at 2 m
     if (k <= 2) depth(cv::Rect(450, 300, 60, 60)).setTo(2 * 5000);  // staying: x ~ +0.6 m at 2 m
-    auto f = MakeFeatures({}, cv::Mat(0, 32, CV_8U), depth, camera, scale);
-    // The camera steps sideways by 5 mm a keyframe: the patches stay within a voxel.
-    const SE3 T_c_w(Eigen::Quaterniond::Identity(), Eigen::Vector3d(-0.005 * k, 0, 0));
-    auto kf = std::make_shared<KeyFrame>(map.NewKeyFrameId(), static_cast<std::uint64_t>(k), 0, f, T_c_w);
-    map.AddKeyFrame(kf);
-    mapper.Submit({kf, bgr, depth});
+    depths.push_back(depth);
   }
-  mapper.Finish();
-  std::vector<Eigen::Vector3d> points;
-  std::vector<Rgb> colours;
-  {
-    std::shared_lock lock(map.mutex());
-    mapper.ExportCloud(points, colours);
-  }
+  const test::SteppedCloud cloud = test::ExportSteppedKeyframes(config, depths);
   Cloud c;
-  for (const Eigen::Vector3d& p : points) {
+  for (const Eigen::Vector3d& p : cloud.points) {
     if (p.z() > 3.5) ++c.wall;
     else if (p.x() < 0) ++c.passing;
     else ++c.staying;
   }
-  c.unsupported = mapper.unsupported_points();
+  c.unsupported = cloud.unsupported;
   return c;
 }
 
