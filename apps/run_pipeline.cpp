@@ -290,11 +290,15 @@ RunSummary RunSequence(const RunOptions& o) {
                                  {"static_keypoints", truth.static_points},
                                  {"static_rejected", truth.static_rejected},
                                  {"static_loss", truth.static_loss()},
+                                 {"static_near_movers", truth.static_near},
+                                 {"static_near_movers_rejected", truth.static_near_rejected},
+                                 {"static_loss_away_from_movers", truth.static_loss_away()},
+                                 {"near_movers_px", eval::MaskScore::kOutlinePx},
                                  {"precision", truth.precision()}};
     spdlog::info("dynamic rejection vs ground-truth masks ({} frames): {:.1f} % of {} moving keypoints rejected, "
-                 "{:.1f} % of {} static keypoints lost, precision {:.1f} %",
+                 "{:.1f} % of {} static keypoints lost ({:.1f} % of those {} px or more from a mover), precision {:.1f} %",
                  truth.frames, 100 * truth.recall(), truth.moving, 100 * truth.static_loss(), truth.static_points,
-                 100 * truth.precision());
+                 100 * truth.static_loss_away(), eval::MaskScore::kOutlinePx, 100 * truth.precision());
   }
   const auto mapping = system.mapping_stats();
   const auto mapping_median = [&](auto field) {

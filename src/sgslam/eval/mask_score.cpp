@@ -1,6 +1,7 @@
 #include "sgslam/eval/mask_score.h"
 
 #include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
 
 #include "sgslam/common/error.h"
 #include "sgslam/io/text_file.h"
@@ -13,12 +14,17 @@ void MaskScore::Add(const MaskScore& o) {
   moving_rejected += o.moving_rejected;
   static_points += o.static_points;
   static_rejected += o.static_rejected;
+  static_near += o.static_near;
+  static_near_rejected += o.static_near_rejected;
 }
 
 MaskScore ScoreKeypoints(const cv::Mat& mask, const std::vector<cv::Point2f>& points,
                          const std::vector<std::uint8_t>& rejected) {
   MaskScore s;
   s.frames = 1;
+  // Distance of every pixel to the nearest moving one (none moving: all far).
+  cv::Mat distance;
+  if (cv::countNonZero(mask) > 0) cv::distanceTransform(mask == 0, distance, cv::DIST_L2, cv::DIST_MASK_5);
   for (std::size_t i = 0; i < points.size(); ++i) {
     const int u = cvRound(points[i].x), v = cvRound(points[i].y);
     if (u < 0 || v < 0 || u >= mask.cols || v >= mask.rows) continue;
@@ -29,6 +35,10 @@ MaskScore ScoreKeypoints(const cv::Mat& mask, const std::vector<cv::Point2f>& po
     } else {
       ++s.static_points;
       s.static_rejected += out ? 1 : 0;
+      if (!distance.empty() && distance.at<float>(v, u) < MaskScore::kOutlinePx) {
+        ++s.static_near;
+        s.static_near_rejected += out ? 1 : 0;
+      }
     }
   }
   return s;
