@@ -1,5 +1,6 @@
 #include "sgslam/dynamic/flow.h"
 
+#include <algorithm>
 #include <cmath>
 #include <opencv2/video/tracking.hpp>
 
@@ -25,6 +26,41 @@ float Bilinear(const cv::Mat& image, float x, float y) {
   const uchar* r0 = image.ptr<uchar>(y0);
   const uchar* r1 = image.ptr<uchar>(y1);
   return (1 - ay) * ((1 - ax) * r0[x0] + ax * r0[x1]) + ay * ((1 - ax) * r1[x0] + ax * r1[x1]);
+}
+
+// The motion model's guess can be off by more than the reduced pyramid reaches
+// (a jerk of the hand-held camera: dyn_dev frame 112 lost 5 frames after it). A
+// sparse probe of the points, tracked with the full pyramid from the points
+// themselves, measures that error; its median moves every guess.
+std::vector<cv::Point2f> ProbedGuess(const FlowFrame& prev, const FlowFrame& cur, const std::vector<cv::Point2f>& points,
+                                     const std::vector<cv::Point2f>& guess, const DynamicConfig& config,
+                                     const cv::TermCriteria& stop) {
+  const std::size_t n = points.size();
+  const std::size_t want = static_cast<std::size_t>(config.lk_probe);
+  if (want == 0 || n < 2 * want) return guess;
+  const std::size_t stride = n / want;
+  std::vector<cv::Point2f> probe, found;
+  std::vector<std::size_t> index;
+  for (std::size_t i = 0; i < n; i += stride) probe.push_back(points[i]), index.push_back(i);
+  std::vector<uchar> ok;
+  std::vector<float> err;
+  cv::calcOpticalFlowPyrLK(LkInput(cur), LkInput(prev), probe, found, ok, err, Window(config), config.lk_levels, stop);
+  std::vector<float> dx, dy;
+  for (std::size_t k = 0; k < probe.size(); ++k) {
+    if (!ok[k] || !std::isfinite(found[k].x) || !std::isfinite(found[k].y)) continue;
+    dx.push_back(found[k].x - guess[index[k]].x);
+    dy.push_back(found[k].y - guess[index[k]].y);
+  }
+  if (dx.size() < probe.size() / 2) return guess;  // the probe itself failed: trust the model
+  const auto median = [](std::vector<float>& v) {
+    auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+    std::nth_element(v.begin(), mid, v.end());
+    return *mid;
+  };
+  const cv::Point2f shift(median(dx), median(dy));
+  std::vector<cv::Point2f> out(guess);
+  for (cv::Point2f& p : out) p += shift;
+  return out;
 }
 
 }  // namespace
@@ -56,7 +92,7 @@ double PatchDifference(const cv::Mat& image_a, cv::Point2f a, const cv::Mat& ima
 }
 
 FlowPairs TrackBackward(const FlowFrame& prev, const FlowFrame& cur, const std::vector<cv::Point2f>& cur_points,
-                        const DynamicConfig& config) {
+                        const DynamicConfig& config, const std::vector<cv::Point2f>* guess) {
   FlowPairs out;
   const size_t n = cur_points.size();
   out.status.assign(n, PairStatus::kFlowFailed);
@@ -65,8 +101,15 @@ FlowPairs TrackBackward(const FlowFrame& prev, const FlowFrame& cur, const std::
   std::vector<float> err;
   const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, config.lk_iterations, config.lk_epsilon);
   // Line 1: P1 = CalcOpticalFlowPyrLK(F2, F1, P2), current -> previous.
-  cv::calcOpticalFlowPyrLK(LkInput(cur), LkInput(prev), cur_points, out.prev, ok, err, Window(config), config.lk_levels,
-                           stop);
+  // A start near the answer needs fewer levels (dynamic_config.h, lk_predict).
+  int flags = 0, levels = config.lk_levels;
+  if (guess != nullptr && guess->size() == n) {
+    out.prev = ProbedGuess(prev, cur, cur_points, *guess, config, stop);
+    flags = cv::OPTFLOW_USE_INITIAL_FLOW;
+    levels = std::min(levels, config.lk_levels_predicted);
+  }
+  cv::calcOpticalFlowPyrLK(LkInput(cur), LkInput(prev), cur_points, out.prev, ok, err, Window(config), levels, stop,
+                           flags);
   // Line 2: drop failed flow, border pairs and pairs that changed appearance. The
   // margin also keeps the appearance patches inside both images.
   const double margin = std::max(config.border, static_cast<double>(config.patch_radius) + 1.0);

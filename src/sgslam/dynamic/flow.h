@@ -32,9 +32,11 @@ struct FlowPairs {
   int valid = 0;                   // pairs with status kOk
 };
 
-// cur_points: keypoint positions in the current image (px, as detected).
+// cur_points: keypoint positions in the current image (px, as detected). guess:
+// where LK starts in the previous image, one per point (flow_guess.h); null: at
+// the points themselves.
 FlowPairs TrackBackward(const FlowFrame& prev, const FlowFrame& cur, const std::vector<cv::Point2f>& cur_points,
-                        const DynamicConfig& config);
+                        const DynamicConfig& config, const std::vector<cv::Point2f>* guess = nullptr);
 
 // Zero-mean mean absolute difference of the (2r+1)^2 patches around a (in image_a)
 // and b (in image_b), sampled bilinearly; both patches must lie inside their images.

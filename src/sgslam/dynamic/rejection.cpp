@@ -116,22 +116,19 @@ DynamicPrior MakeDynamicPrior(const std::vector<cv::KeyPoint>& keys, const Rejec
 }
 
 PairSet TrackPairs(const FlowFrame& prev, const FlowFrame& cur, const std::vector<cv::KeyPoint>& keys,
-                   const DynamicConfig& config, const UndistortPointsFn& undistort) {
+                   const DynamicConfig& config, const UndistortPointsFn& undistort, const FlowPrediction* predict) {
   const Stopwatch watch;
   PairSet p;
   p.cur.resize(keys.size());
   std::transform(keys.begin(), keys.end(), p.cur.begin(), [](const cv::KeyPoint& k) { return k.pt; });
-  p.flow = TrackBackward(prev, cur, p.cur, config);  // lines 1-2
-  p.prev_un = p.flow.prev;
+  const bool undistorting = undistort && config.undistort_pairs;
   p.cur_un = p.cur;
-  if (undistort && config.undistort_pairs) {
-    // One call for both sets; failed pairs are undistorted too (cheap, unused).
-    std::vector<cv::Point2f> all(p.prev_un);
-    all.insert(all.end(), p.cur_un.begin(), p.cur_un.end());
-    undistort(all);
-    std::copy(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(keys.size()), p.prev_un.begin());
-    std::copy(all.begin() + static_cast<std::ptrdiff_t>(keys.size()), all.end(), p.cur_un.begin());
-  }
+  if (undistorting) undistort(p.cur_un);
+  std::vector<cv::Point2f> guess;
+  if (predict != nullptr && config.lk_predict) guess = PredictPrevious(p.cur, p.cur_un, *predict, config.depth_min, config.depth_max);
+  p.flow = TrackBackward(prev, cur, p.cur, config, guess.empty() ? nullptr : &guess);  // lines 1-2
+  p.prev_un = p.flow.prev;
+  if (undistorting) undistort(p.prev_un);  // failed pairs are undistorted too (cheap, unused)
   p.ms = watch.ElapsedMs();
   return p;
 }

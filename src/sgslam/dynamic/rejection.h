@@ -47,6 +47,7 @@
 #include "sgslam/dynamic/dynamic_config.h"
 #include "sgslam/dynamic/epipolar.h"
 #include "sgslam/dynamic/flow.h"
+#include "sgslam/dynamic/flow_guess.h"
 #include "sgslam/dynamic/motion.h"
 #include "sgslam/dynamic/regions.h"
 
@@ -119,8 +120,11 @@ struct RejectionResult {
   RejectionTiming ms;
 };
 
+// predict: the motion model's guess of where each keypoint was, LK's starting
+// point (config.lk_predict, flow_guess.h); null: LK starts at the keypoints.
 PairSet TrackPairs(const FlowFrame& prev, const FlowFrame& cur, const std::vector<cv::KeyPoint>& keys,
-                   const DynamicConfig& config, const UndistortPointsFn& undistort = {});
+                   const DynamicConfig& config, const UndistortPointsFn& undistort = {},
+                   const FlowPrediction* predict = nullptr);
 
 // depth: the RGB-D check's inputs, used when config.depth_check (null: skipped);
 // with depth_motion = pnp its T_cur_prev is replaced by the PnP estimate (no

@@ -147,7 +147,12 @@ DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, 
     if (!first) {
       dynamic::UndistortPointsFn undistort;
       if (undistort_) undistort = [table = undistort_](std::vector<cv::Point2f>& p) { table->Apply(p); };
-      pairs = dynamic::TrackPairs(prev_, cur, keys, config_.dynamic, undistort);
+      std::optional<dynamic::FlowPrediction> predict;
+      if (T_cur_prev) {
+        predict = dynamic::FlowPrediction{depth_raw, config_.camera.depth_factor,
+                                          {camera_->fx(), camera_->fy(), camera_->cx(), camera_->cy()}, *T_cur_prev};
+      }
+      pairs = dynamic::TrackPairs(prev_, cur, keys, config_.dynamic, undistort, predict ? &*predict : nullptr);
     }
   }
   // The keypoint tracks need no boxes either (track_memory.h).
