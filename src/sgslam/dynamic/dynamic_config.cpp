@@ -11,6 +11,7 @@ void DynamicConfig::Validate(ConfigChecker& c) const {
   c.InRange("lk_levels", lk_levels, 0, 8);
   c.InRange("lk_levels_predicted", lk_levels_predicted, 0, 8);
   c.InRange("lk_probe", lk_probe, 0, 10000);
+  c.InRange("forward_check", forward_check, 0.0, 100.0);
   c.InRange("lk_iterations", lk_iterations, 1, 1000);
   c.InRange("lk_epsilon", lk_epsilon, 1e-6, 1.0);
   c.InRange("lk_max_error", lk_max_error, 0.0, 255.0);

@@ -132,4 +132,23 @@ FlowPairs TrackBackward(const FlowFrame& prev, const FlowFrame& cur, const std::
   return out;
 }
 
+std::vector<bool> ForwardConsistent(const FlowFrame& prev, const FlowFrame& cur,
+                                    const std::vector<cv::Point2f>& prev_points,
+                                    const std::vector<cv::Point2f>& cur_points, const DynamicConfig& config,
+                                    double tolerance) {
+  std::vector<bool> out(prev_points.size(), false);
+  if (prev_points.empty()) return out;
+  std::vector<cv::Point2f> forward;
+  std::vector<uchar> ok;
+  std::vector<float> err;
+  const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, config.lk_iterations, config.lk_epsilon);
+  cv::calcOpticalFlowPyrLK(LkInput(prev), LkInput(cur), prev_points, forward, ok, err, Window(config), config.lk_levels,
+                           stop);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const cv::Point2f d = forward[i] - cur_points[i];
+    out[i] = ok[i] && std::isfinite(d.x) && std::isfinite(d.y) && std::hypot(d.x, d.y) <= tolerance;
+  }
+  return out;
+}
+
 }  // namespace sgslam::dynamic

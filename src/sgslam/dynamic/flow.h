@@ -38,6 +38,14 @@ struct FlowPairs {
 FlowPairs TrackBackward(const FlowFrame& prev, const FlowFrame& cur, const std::vector<cv::Point2f>& cur_points,
                         const DynamicConfig& config, const std::vector<cv::Point2f>* guess = nullptr);
 
+// Forward-backward consistency of pairs: prev_points (where the backward flow put
+// the keypoints) are tracked forward into the current image with the full
+// pyramid; true where that lands within tolerance px of cur_points.
+std::vector<bool> ForwardConsistent(const FlowFrame& prev, const FlowFrame& cur,
+                                    const std::vector<cv::Point2f>& prev_points,
+                                    const std::vector<cv::Point2f>& cur_points, const DynamicConfig& config,
+                                    double tolerance);
+
 // Zero-mean mean absolute difference of the (2r+1)^2 patches around a (in image_a)
 // and b (in image_b), sampled bilinearly; both patches must lie inside their images.
 double PatchDifference(const cv::Mat& image_a, cv::Point2f a, const cv::Mat& image_b, cv::Point2f b, int radius);

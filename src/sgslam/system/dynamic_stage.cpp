@@ -216,6 +216,25 @@ DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, 
     }
     dynamic::RejectionResult r = dynamic::JudgePairs(pairs, keys, judged, weight, dyn,
                                                      depth ? &*depth : nullptr, prior_.cell > 0 ? &prior_ : nullptr);
+    if (dc.forward_check > 0 && mode_ != dynamic::Mode::kSemantic && !first) {
+      // Only the keypoints the flow alone condemns (outside the boxes) are checked.
+      std::vector<std::size_t> which;
+      std::vector<cv::Point2f> from, to;
+      for (std::size_t i = 0; i < keys.size(); ++i) {
+        const dynamic::KeypointVerdict& v = r.keypoints[i];
+        if (v.kept || v.weight > 1.0 || pairs.flow.status[i] != dynamic::PairStatus::kOk) continue;
+        if (v.why != dynamic::Why::kDepth && v.why != dynamic::Why::kGeometry) continue;
+        which.push_back(i), from.push_back(pairs.flow.prev[i]), to.push_back(pairs.cur[i]);
+      }
+      const std::vector<bool> ok = dynamic::ForwardConsistent(prev_, cur, from, to, dc, dc.forward_check);
+      for (std::size_t k = 0; k < which.size(); ++k) {
+        if (ok[k]) continue;
+        dynamic::KeypointVerdict& v = r.keypoints[which[k]];
+        (v.why == dynamic::Why::kDepth ? r.rejected_depth : r.rejected_geometry) -= 1;
+        v.kept = true, v.why = dynamic::Why::kUnjudged;
+        ++r.kept;
+      }
+    }
     if (mode_ != dynamic::Mode::kSemantic) {
       out.rejected_track = ApplyMultiFrameChecks(keys, tracks, r);
       r.kept -= out.rejected_track;
