@@ -2,13 +2,20 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <opencv2/video/tracking.hpp>
+
+#include "sgslam/common/stats.h"
 
 namespace sgslam::dynamic {
 
 namespace {
 
 cv::Size Window(const DynamicConfig& c) { return {c.lk_window, c.lk_window}; }
+
+cv::TermCriteria Stop(const DynamicConfig& c) {
+  return {cv::TermCriteria::COUNT | cv::TermCriteria::EPS, c.lk_iterations, c.lk_epsilon};
+}
 
 // An image or its pyramid, as calcOpticalFlowPyrLK takes either.
 cv::_InputArray LkInput(const FlowFrame& f) {
@@ -33,8 +40,7 @@ float Bilinear(const cv::Mat& image, float x, float y) {
 // sparse probe of the points, tracked with the full pyramid from the points
 // themselves, measures that error; its median moves every guess.
 std::vector<cv::Point2f> ProbedGuess(const FlowFrame& prev, const FlowFrame& cur, const std::vector<cv::Point2f>& points,
-                                     const std::vector<cv::Point2f>& guess, const DynamicConfig& config,
-                                     const cv::TermCriteria& stop) {
+                                     const std::vector<cv::Point2f>& guess, const DynamicConfig& config) {
   const std::size_t n = points.size();
   const std::size_t want = static_cast<std::size_t>(config.lk_probe);
   if (want == 0 || n < 2 * want) return guess;
@@ -44,20 +50,18 @@ std::vector<cv::Point2f> ProbedGuess(const FlowFrame& prev, const FlowFrame& cur
   for (std::size_t i = 0; i < n; i += stride) probe.push_back(points[i]), index.push_back(i);
   std::vector<uchar> ok;
   std::vector<float> err;
-  cv::calcOpticalFlowPyrLK(LkInput(cur), LkInput(prev), probe, found, ok, err, Window(config), config.lk_levels, stop);
-  std::vector<float> dx, dy;
+  cv::calcOpticalFlowPyrLK(LkInput(cur), LkInput(prev), probe, found, ok, err, Window(config), config.lk_levels,
+                           Stop(config));
+  std::vector<double> dx, dy;
   for (std::size_t k = 0; k < probe.size(); ++k) {
     if (!ok[k] || !std::isfinite(found[k].x) || !std::isfinite(found[k].y)) continue;
     dx.push_back(found[k].x - guess[index[k]].x);
     dy.push_back(found[k].y - guess[index[k]].y);
   }
   if (dx.size() < probe.size() / 2) return guess;  // the probe itself failed: trust the model
-  const auto median = [](std::vector<float>& v) {
-    auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-    std::nth_element(v.begin(), mid, v.end());
-    return *mid;
-  };
-  const cv::Point2f shift(median(dx), median(dy));
+  // The middle element (nearest rank), as measured; Median would average two.
+  const cv::Point2f shift(static_cast<float>(Percentile(std::move(dx), 0.5)),
+                          static_cast<float>(Percentile(std::move(dy), 0.5)));
   std::vector<cv::Point2f> out(guess);
   for (cv::Point2f& p : out) p += shift;
   return out;
@@ -99,17 +103,16 @@ FlowPairs TrackBackward(const FlowFrame& prev, const FlowFrame& cur, const std::
   if (n == 0) return out;
   std::vector<uchar> ok;
   std::vector<float> err;
-  const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, config.lk_iterations, config.lk_epsilon);
   // Line 1: P1 = CalcOpticalFlowPyrLK(F2, F1, P2), current -> previous.
   // A start near the answer needs fewer levels (dynamic_config.h, lk_predict).
   int flags = 0, levels = config.lk_levels;
   if (guess != nullptr && guess->size() == n) {
-    out.prev = ProbedGuess(prev, cur, cur_points, *guess, config, stop);
+    out.prev = ProbedGuess(prev, cur, cur_points, *guess, config);
     flags = cv::OPTFLOW_USE_INITIAL_FLOW;
     levels = std::min(levels, config.lk_levels_predicted);
   }
-  cv::calcOpticalFlowPyrLK(LkInput(cur), LkInput(prev), cur_points, out.prev, ok, err, Window(config), levels, stop,
-                           flags);
+  cv::calcOpticalFlowPyrLK(LkInput(cur), LkInput(prev), cur_points, out.prev, ok, err, Window(config), levels,
+                           Stop(config), flags);
   // Line 2: drop failed flow, border pairs and pairs that changed appearance. The
   // margin also keeps the appearance patches inside both images.
   const double margin = std::max(config.border, static_cast<double>(config.patch_radius) + 1.0);
@@ -141,9 +144,8 @@ std::vector<bool> ForwardConsistent(const FlowFrame& prev, const FlowFrame& cur,
   std::vector<cv::Point2f> forward;
   std::vector<uchar> ok;
   std::vector<float> err;
-  const cv::TermCriteria stop(cv::TermCriteria::COUNT | cv::TermCriteria::EPS, config.lk_iterations, config.lk_epsilon);
   cv::calcOpticalFlowPyrLK(LkInput(prev), LkInput(cur), prev_points, forward, ok, err, Window(config), config.lk_levels,
-                           stop);
+                           Stop(config));
   for (std::size_t i = 0; i < out.size(); ++i) {
     const cv::Point2f d = forward[i] - cur_points[i];
     out[i] = ok[i] && std::isfinite(d.x) && std::isfinite(d.y) && std::hypot(d.x, d.y) <= tolerance;

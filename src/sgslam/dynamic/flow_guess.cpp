@@ -1,8 +1,9 @@
 #include "sgslam/dynamic/flow_guess.h"
 
-#include <algorithm>
 #include <cmath>
+#include <utility>
 
+#include "sgslam/common/stats.h"
 #include "sgslam/dynamic/depth_sample.h"
 
 namespace sgslam::dynamic {
@@ -21,12 +22,7 @@ std::vector<cv::Point2f> PredictPrevious(const std::vector<cv::Point2f>& cur_raw
     const double d = DepthAt(depth, x, y, prediction.depth_factor);
     if (std::isfinite(d) && d >= depth_min && d <= depth_max) z[i] = d, measured.push_back(d);
   }
-  double fallback = 2.0;  // m
-  if (!measured.empty()) {
-    auto mid = measured.begin() + static_cast<std::ptrdiff_t>(measured.size() / 2);
-    std::nth_element(measured.begin(), mid, measured.end());
-    fallback = *mid;
-  }
+  const double fallback = measured.empty() ? 2.0 : Percentile(std::move(measured), 0.5);  // m, the middle depth
   const Pinhole& K = prediction.K;
   const SE3 T_prev_cur = prediction.T_cur_prev.Inverse();
   std::vector<cv::Point2f> out(cur_raw);

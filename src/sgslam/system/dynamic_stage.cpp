@@ -148,7 +148,7 @@ DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, 
       dynamic::UndistortPointsFn undistort;
       if (undistort_) undistort = [table = undistort_](std::vector<cv::Point2f>& p) { table->Apply(p); };
       std::optional<dynamic::FlowPrediction> predict;
-      if (T_cur_prev) {
+      if (T_cur_prev && config_.dynamic.lk_predict) {
         predict = dynamic::FlowPrediction{depth_raw, config_.camera.depth_factor,
                                           {camera_->fx(), camera_->fy(), camera_->cx(), camera_->cy()}, *T_cur_prev};
       }
