@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <random>
+#include <stdexcept>
 
 #include "sgslam/map/map_check.h"
 
@@ -88,6 +89,20 @@ TEST(Map, ReplacingADuplicateMovesItsObservations) {
   EXPECT_EQ(q->observations().size(), 3u);
   EXPECT_EQ(q->num_observations(), 6);  // depth observations count twice
   EXPECT_TRUE(CheckMapConsistency(map).empty());
+}
+
+// Tracking corrects a keyframe's keypoints once more before local mapping sees it
+// (Tracker::CorrectWaitingKeyFrame); its map points stay indexed by keypoint, so
+// the keypoints must stay the same ones.
+TEST(KeyFrame, ReplacedFeaturesMustKeepTheKeypoints) {
+  Map map;
+  const auto kf = MakeKeyFrame(map, 20, 0.0);
+  const auto other = MakeKeyFrame(map, 21, 0.0);
+  const auto same = MakeKeyFrame(map, 20, 0.5);
+  EXPECT_THROW(kf->ReplaceFeatures(other->features), std::invalid_argument);
+  EXPECT_THROW(kf->ReplaceFeatures(nullptr), std::invalid_argument);
+  kf->ReplaceFeatures(same->features);
+  EXPECT_EQ(kf->features, same->features);
 }
 
 TEST(MapPoint, PredictScaleFollowsDistance) {

@@ -139,6 +139,14 @@ struct TrackingConfig {
   // velocity together with its pose, corrects them again and fits the pose once more.
   bool rolling_shutter_refine = true;
   double rolling_shutter_prior = 1.0;  // rad/s, sigma of the refined velocity around the predicted one
+  // With a rolling shutter, a new keyframe goes to local mapping one frame late:
+  // when the next frame is tracked, the keyframe's keypoints are corrected again
+  // with the central difference of the poses on either side (no lag; the fitted
+  // velocity lags by ~1.5 frames), its depth points move with them and the next
+  // frame is fitted again (Tracker::KeyFramesWait). Panels of 5 ORB budgets,
+  // sequential, off -> on: fr1_rpy none 0.0099 -> 0.0091 m, dyn_dev sg 0.0183 ->
+  // 0.0176 (budgets 925-1125: 0.0114 -> 0.0097, 0.0198 -> 0.0161). README "Rolling shutter".
+  bool keyframe_velocity_central = true;
 
   template <class V>
   void Visit(V&& v) {
@@ -161,6 +169,7 @@ struct TrackingConfig {
     v("trust_min_points", trust_min_points, "trusted matches needed to fit a frame's pose to them first");
     v("rolling_shutter_refine", rolling_shutter_refine, "fit the frame's angular velocity with its pose and correct the keypoints again");
     v("rolling_shutter_prior", rolling_shutter_prior, "rad/s, sigma of the fitted angular velocity around the predicted one");
+    v("keyframe_velocity_central", keyframe_velocity_central, "correct a keyframe one frame later with the velocity of the frames around it");
   }
   void Validate(ConfigChecker& c) const;
 };

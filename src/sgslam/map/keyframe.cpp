@@ -1,5 +1,7 @@
 #include "sgslam/map/keyframe.h"
 
+#include <stdexcept>
+
 #include <algorithm>
 #include <set>
 
@@ -16,6 +18,13 @@ KeyFrame::KeyFrame(std::uint64_t kf_id, std::uint64_t source_frame_id, Timestamp
                    std::shared_ptr<const Features> feats, const SE3& T_c_w)
     : id(kf_id), frame_id(source_frame_id), t(stamp), features(std::move(feats)), map_points_(features->size()) {
   SetPose(T_c_w);
+}
+
+void KeyFrame::ReplaceFeatures(std::shared_ptr<const Features> corrected) {
+  if (!corrected || corrected->size() != features->size()) {
+    throw std::invalid_argument("KeyFrame::ReplaceFeatures: the keypoints must stay the same");
+  }
+  features = std::move(corrected);
 }
 
 void KeyFrame::SetPose(const SE3& T_c_w) {

@@ -2,7 +2,7 @@
 // observe, the covisibility graph and the spanning tree (ORB-SLAM2's KeyFrame).
 //
 // Threading: fields marked [map] are guarded by Map::mutex() (shared lock to read,
-// exclusive to write). `features` is immutable. Graph links to other keyframes are
+// exclusive to write). `features` is immutable once local mapping has the keyframe. Graph links to other keyframes are
 // weak (back-references); the Map owns keyframes, a keyframe owns its map points.
 #pragma once
 
@@ -28,7 +28,12 @@ class KeyFrame : public std::enable_shared_from_this<KeyFrame> {
   const std::uint64_t id;
   const std::uint64_t frame_id;
   const Timestamp t;
-  const std::shared_ptr<const Features> features;
+  // Immutable once local mapping has the keyframe; until then the tracker may
+  // replace it (ReplaceFeatures, Tracker::CorrectWaitingKeyFrame).
+  std::shared_ptr<const Features> features;
+  // [map, exclusive] Before the keyframe goes to local mapping only: the same
+  // keypoints, corrected again (same count and order).
+  void ReplaceFeatures(std::shared_ptr<const Features> corrected);
 
   // [map] pose.
   const SE3& T_c_w() const { return T_c_w_; }

@@ -42,9 +42,24 @@ SlamSystem::~SlamSystem() { Stop(/*final_ba=*/false); }
 
 void SlamSystem::Finish() { Stop(/*final_ba=*/true); }
 
+void SlamSystem::HandOver(SemanticInput item) {
+  if (sequential_) {
+    {
+      std::lock_guard lock(stats_mutex_);
+      mapping_stats_.push_back(mapper_.Process(item.keyframe, [] { return false; }));
+    }
+    ToSemantic(std::move(item));
+  } else {
+    queue_.Push(std::move(item));
+  }
+}
+
 void SlamSystem::Stop(bool final_ba) {
   if (finished_) return;
   finished_ = true;
+  // The last frame's keyframe waits for a frame that will not come.
+  if (waiting_ && final_ba) HandOver(std::move(*waiting_));
+  waiting_.reset();
   queue_.Shutdown();  // the thread drains what is queued, then exits
   if (mapping_thread_.joinable()) mapping_thread_.join();
   // With every keyframe mapped, one bundle adjustment of the whole map (what
@@ -135,18 +150,19 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
     std::shared_lock lock(map_.mutex());
     records_.push_back({frame.t, frame.reference_kf, frame.T_c_w * frame.reference_kf->T_w_c(), frame.T_c_w.Inverse()});
   }
+  // The last frame's keyframe, corrected by Track with this frame's pose (Tracker::KeyFramesWait).
+  if (waiting_) {
+    HandOver(std::move(*waiting_));
+    waiting_.reset();
+  }
   if (result.new_keyframe) {
     report.keyframe = true;
     last_keyframe_frame_id_ = frame.id;
     SemanticInput item{result.new_keyframe, images.bgr, images.depth};
-    if (sequential_) {
-      {
-        std::lock_guard lock(stats_mutex_);
-        mapping_stats_.push_back(mapper_.Process(result.new_keyframe, [] { return false; }));
-      }
-      ToSemantic(std::move(item));
+    if (tracker_.KeyFramesWait()) {
+      waiting_ = std::move(item);
     } else {
-      queue_.Push(std::move(item));
+      HandOver(std::move(item));
     }
   }
   // After the keyframe's hand-over: in sequential mode this may complete its box

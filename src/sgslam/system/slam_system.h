@@ -91,6 +91,8 @@ class SlamSystem {
   void MappingLoop();
   void Stop(bool final_ba);
   void ToSemantic(SemanticInput item);
+  // A new keyframe to local mapping (at once when sequential), then to the semantic thread.
+  void HandOver(SemanticInput item);
 
   const Config config_;
   const bool sequential_;
@@ -111,6 +113,7 @@ class SlamSystem {
   std::vector<PoseRecord> records_;
   std::uint64_t next_frame_id_ = 0;
   std::uint64_t last_keyframe_frame_id_ = 0;  // for MappingConfig::busy_frames
+  std::optional<SemanticInput> waiting_;       // the last frame's keyframe, not yet mapped (Tracker::KeyFramesWait)
 
   std::unique_ptr<SemanticMapper> semantic_;  // fed by local mapping with refined keyframes
   BoundedQueue<SemanticInput> queue_;         // keyframes (with their images) for local mapping

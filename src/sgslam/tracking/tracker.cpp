@@ -76,6 +76,15 @@ TrackResult Tracker::Track(Frame& frame, bool mapping_idle, std::size_t mapping_
     }
     if (ok) ok = TrackLocalMap(frame, result);
   }
+  // The last frame's keyframe, corrected with this frame's pose; this frame is then
+  // fitted again to its corrected points.
+  if (waiting_) {
+    if (ok && CorrectWaitingKeyFrame(*waiting_, frame)) {
+      std::shared_lock lock(map_.mutex());
+      OptimizePose(frame);
+    }
+    waiting_.reset();
+  }
 
   if (!ok) {
     // Lost: the map stays untouched; the next frame starts from the last good pose.
@@ -97,7 +106,12 @@ TrackResult Tracker::Track(Frame& frame, bool mapping_idle, std::size_t mapping_
     std::shared_lock lock(map_.mutex());
     need_keyframe = NeedNewKeyFrame(frame, result.inliers, mapping_idle, mapping_queue);
   }
-  if (need_keyframe) result.new_keyframe = CreateKeyFrame(frame);
+  if (need_keyframe) {
+    result.new_keyframe = CreateKeyFrame(frame);
+    if (KeyFramesWait() && last_frame_.has_pose && last_frame_.id + 1 == frame.id) {
+      waiting_ = Waiting{result.new_keyframe, last_frame_.t, last_frame_.T_c_w};
+    }
+  }
   {
     std::shared_lock lock(map_.mutex());
     last_T_c_r_ = frame.T_c_w * frame.reference_kf->T_w_c();
@@ -107,6 +121,30 @@ TrackResult Tracker::Track(Frame& frame, bool mapping_idle, std::size_t mapping_
   last_frame_ = frame;
   result.state = state_;
   return result;
+}
+
+bool Tracker::KeyFramesWait() const {
+  return config_.tracking.keyframe_velocity_central && config_.camera.readout > 0;
+}
+
+bool Tracker::CorrectWaitingKeyFrame(const Waiting& waiting, const Frame& next) {
+  const std::shared_ptr<KeyFrame>& kf = waiting.keyframe;
+  const auto w = AngularVelocity(next.T_c_w * waiting.T_c_w_before.Inverse(), ToSeconds(next.t - waiting.t_before));
+  if (!w) return false;
+  const std::shared_ptr<const Features> corrected = WithRollingShutterCorrection(*kf->features, *w);
+  std::unique_lock lock(map_.mutex());
+  if (kf->bad()) return false;
+  kf->ReplaceFeatures(corrected);
+  // The points it made from its depth (AddDepthPoints) follow their keypoints.
+  const SE3 T_w_c = kf->T_w_c();
+  const auto& points = kf->map_points();
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const auto& p = points[i];
+    if (p && !p->bad() && p->first_keyframe_id == kf->id && corrected->depth[i] > 0) {
+      p->SetPosition(T_w_c * corrected->Unproject(i));
+    }
+  }
+  return true;
 }
 
 bool Tracker::Initialize(Frame& frame, TrackResult& result) {

@@ -40,6 +40,15 @@ class Tracker {
   // keyframes wait for it (the keyframe decision takes both into account).
   TrackResult Track(Frame& frame, bool mapping_idle, std::size_t mapping_queue);
 
+  // With a rolling shutter and tracking.keyframe_velocity_central, a new keyframe
+  // waits for the next frame before it goes to local mapping: Track then corrects
+  // its keypoints with the angular velocity of the poses on either side (central
+  // difference, no lag) instead of the one fitted within its own frame, which lags
+  // the truth by about 1.5 frames, and moves the points it made. Its points are in
+  // the map meanwhile. The caller hands a new keyframe to local mapping after the
+  // next Track call (or at the end of the sequence) when this is true.
+  bool KeyFramesWait() const;
+
   TrackState state() const { return state_; }
   // The constant-velocity prediction of the next frame's motion, T_next_last
   // (what the motion model will assume); none after a loss or before two poses.
@@ -86,6 +95,16 @@ class Tracker {
   SE3 last_T_c_r_;  // last frame's pose relative to its reference keyframe
   std::uint64_t last_keyframe_frame_id_ = 0;
   double th_depth_ = 0;  // m, the close/far limit of depth points
+  // The last frame's keyframe and the tracked frame before it (KeyFramesWait).
+  struct Waiting {
+    std::shared_ptr<KeyFrame> keyframe;
+    Timestamp t_before;
+    SE3 T_c_w_before;
+  };
+  std::optional<Waiting> waiting_;
+  // Corrects the waiting keyframe with next, the frame after it (tracked);
+  // false when it could not (no velocity, or the keyframe was culled).
+  bool CorrectWaitingKeyFrame(const Waiting& waiting, const Frame& next);
   // Frames the initialisation waited for more kept keypoints with depth (Initialize).
   static constexpr int kMaxInitDeferrals = 5;
   int init_deferred_ = 0;
