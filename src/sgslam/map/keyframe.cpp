@@ -1,9 +1,8 @@
 #include "sgslam/map/keyframe.h"
 
-#include <stdexcept>
-
 #include <algorithm>
 #include <set>
+#include <stdexcept>
 
 #include "sgslam/map/map.h"
 #include "sgslam/map/map_point.h"

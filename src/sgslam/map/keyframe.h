@@ -2,8 +2,10 @@
 // observe, the covisibility graph and the spanning tree (ORB-SLAM2's KeyFrame).
 //
 // Threading: fields marked [map] are guarded by Map::mutex() (shared lock to read,
-// exclusive to write). `features` is immutable once local mapping has the keyframe. Graph links to other keyframes are
-// weak (back-references); the Map owns keyframes, a keyframe owns its map points.
+// exclusive to write). `features` is immutable once local mapping has the keyframe
+// (until then only the tracking thread sees it: ReplaceFeatures). Graph links to
+// other keyframes are weak (back-references); the Map owns keyframes, a keyframe
+// owns its map points.
 #pragma once
 
 #include <cstdint>
