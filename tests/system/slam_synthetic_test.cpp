@@ -223,8 +223,9 @@ TEST_F(SlamSynthetic, TrustedMapPointsHoldThePoseAgainstWalkers) {
 // angular velocity of the frames on either side. The synthetic images have a
 // global shutter, so a readout only adds error here, whichever velocity corrects
 // the keypoints: the point is that the waiting keyframes all reach local mapping
-// (the one waiting when the sequence ends too), the map stays consistent and
-// accurate, sequentially and in parallel, and the correction does act.
+// (a keyframe made at the last frame too, when the run makes one there: nothing
+// here forces it), the map stays consistent and accurate, sequentially and in
+// parallel, and the correction does act.
 TEST_F(SlamSynthetic, KeyFramesWaitForTheNextFrameWithARollingShutter) {
   const fs::path seq = dir_->path() / "static";
   const auto gt = ReadTumTrajectory(seq / "groundtruth.txt");
