@@ -43,6 +43,27 @@ TEST(RunConfig, AConfigWithoutACameraSectionKeepsTheFoldersCamera) {
   EXPECT_DOUBLE_EQ(unknown.config.camera.readout, 0.03) << "the TUM fr1 camera, readout included";
 }
 
+// A synthetic sequence (or any folder with its own sgslam.yaml) keeps its camera
+// and its settings under a --config that has no camera section: an ORB budget for
+// a panel must not put the TUM fr1 calibration on a synthetic camera.
+TEST(RunConfig, AConfigWithoutACameraSectionGoesOnTopOfTheFoldersOwnFile) {
+  test::TempDir tmp;
+  const fs::path dir = tmp / "synthetic";
+  fs::create_directories(dir);
+  test::WriteText(dir / "sgslam.yaml", synth::CameraYaml(0.02));
+  test::WriteText(tmp / "budget.yaml", "orb:\n  features: 900\n");
+  const RunConfig rc = ResolveRunConfig(tmp / "budget.yaml", dir);
+  EXPECT_EQ(rc.config.orb.features, 900);
+  EXPECT_DOUBLE_EQ(rc.config.camera.fx, 525.0) << "the synthetic camera, not TUM fr1's";
+  EXPECT_DOUBLE_EQ(rc.config.camera.k1, 0.0);
+  EXPECT_DOUBLE_EQ(rc.config.camera.readout, 0.02);
+  EXPECT_EQ(rc.config.detector.backend, "file") << "the folder's other settings stay too";
+  EXPECT_NE(rc.source.find("budget.yaml over"), std::string::npos) << rc.source;
+
+  test::WriteText(tmp / "detector.yaml", "detector:\n  backend: dnn\n");
+  EXPECT_EQ(ResolveRunConfig(tmp / "detector.yaml", dir).config.detector.backend, "dnn") << "the given file wins";
+}
+
 TEST(RunConfig, AConfigWithACameraSectionDescribesTheCamera) {
   test::TempDir tmp;
   const fs::path dir = tmp / "rgbd_dataset_freiburg1_desk";

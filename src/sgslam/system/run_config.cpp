@@ -22,6 +22,13 @@ RunConfig ResolveRunConfig(const std::optional<fs::path>& config_file, const fs:
   if (file && ConfigFileHasSection(*file, "camera")) {
     LoadConfigFile(*file, out.config);
     out.source = file->string();
+  } else if (file && fs::is_regular_file(local, ec) && ConfigFileHasSection(local, "camera")) {
+    // The folder describes its own camera (sgslam synth writes one): the given
+    // file goes on top of the folder's file, camera and all. Before, the TUM fr1
+    // camera replaced a synthetic sequence's.
+    LoadConfigFile(local, out.config);
+    LoadConfigFile(*file, out.config);
+    out.source = file->string() + " over " + local.string();
   } else {
     out.config.camera = *CameraPreset(preset.value_or("tum_fr1"));
     out.source = preset ? "camera preset " + *preset + " (from the folder name)" : "defaults (TUM fr1 camera)";
