@@ -14,9 +14,12 @@ Action AddSynthCommand(CLI::App& root) {
   auto out = std::make_shared<std::string>();
   CLI::App* cmd = root.add_subcommand("synth", "Write a synthetic RGB-D sequence with exact ground truth");
   cmd->add_option("--out", *out, "Output folder (must be empty or new unless --force)")->required();
-  cmd->add_option("--preset", o->preset, "Scene: static, walkers, degenerate or objects")->capture_default_str();
+  cmd->add_option("--preset", o->preset, "Scene: static, walkers, degenerate, objects or rpy")->capture_default_str();
   cmd->add_option("--seed", o->seed, "Seed of the layout, textures, paths and noise")->capture_default_str();
   cmd->add_option("--frames", o->frames, "Number of frames at 30 Hz")->capture_default_str();
+  cmd->add_option("--readout", o->readout,
+                  "Rolling-shutter readout time in s (rows exposed one after another; 0: global shutter)")
+      ->capture_default_str();
   cmd->add_flag("--force", o->force, "Write into a non-empty folder, replacing only the files synth writes");
   return [o, out] {
     const synth::SynthSummary s = synth::GenerateSequence(*o, *out);

@@ -6,6 +6,7 @@
 #include <limits>
 #include <numbers>
 
+#include "sgslam/common/error.h"
 #include "sgslam/synth/sequence.h"
 
 namespace sgslam::synth {
@@ -96,6 +97,39 @@ TEST(SynthGeometry, EveryDepthLiesOnItsSurfaceAndIsTheNearestHit) {
     }
     EXPECT_GT(brute_force_checks, 20000);
   }
+}
+
+// With a readout time, row v is seen from the camera at the frame's time + (v /
+// height - 1/2) * readout (the model of camera/rolling_shutter.h): each row's
+// depth and surface are those of a brute-force cast from that row's own pose; the
+// middle row is the global-shutter frame's, the others are not.
+TEST(SynthGeometry, RollingShutterRowsAreSeenFromTheirOwnCameras) {
+  constexpr double kReadout = 0.03;
+  const SynthSequence rolling("static", 3, 60, kReadout);
+  const SynthSequence global("static", 3, 60);
+  const Intrinsics& K = rolling.intrinsics();
+  for (int i : {10, 50}) {
+    const RenderedFrame f = rolling.Render(i);
+    const RenderedFrame g = global.Render(i);
+    EXPECT_TRUE(f.T_w_c.translation() == g.T_w_c.translation()) << "the frame's pose is its middle row's";
+    int checks = 0, differ = 0;
+    for (int v = 0; v < K.height; v += 7) {
+      const double s = (static_cast<double>(v) / K.height - 0.5) * kReadout;
+      const SE3 T_w_row = rolling.scene().camera.Pose(rolling.Seconds(i) + s);
+      for (int u = 3; u < K.width; u += 13) {
+        const Hit hit = CastBruteForce(f.surfaces, T_w_row, K.Ray(u, v));
+        ASSERT_EQ(f.surface.at<int>(v, u), hit.quad) << "pixel " << u << "," << v << " frame " << i;
+        ASSERT_NEAR(f.depth.at<float>(v, u), hit.z, 1e-6 * hit.z) << "pixel " << u << "," << v;
+        differ += std::abs(f.depth.at<float>(v, u) - g.depth.at<float>(v, u)) > 1e-4f;
+        ++checks;
+      }
+    }
+    const int mid = K.height / 2;
+    EXPECT_EQ(cv::countNonZero(f.depth.row(mid) != g.depth.row(mid)), 0) << "the middle row is exposed at the frame's time";
+    EXPECT_GT(differ, checks / 4) << "the camera moves during the readout: most rows see another view";
+  }
+  EXPECT_THROW(SynthSequence("static", 3, 10, -0.01), InputError);
+  EXPECT_THROW(SynthSequence("static", 3, 10, 0.05), InputError) << "longer than a frame time";
 }
 
 TEST(SynthGeometry, CameraStaysInsideTheRoomAndMovesLikeAHandheldCamera) {

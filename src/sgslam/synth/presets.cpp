@@ -90,6 +90,19 @@ void BuildRoomWithWalkers(Scene& s, bool add_walkers) {
   for (const WalkerMotion& w : walks) AddPerson(s, people, w);
 }
 
+// rpy: the static room with the camera near one spot, rolling, pitching and
+// yawing like TUM's fr1_rpy (peaks near 1.3 rad/s), so that a rolling shutter
+// (synth --readout) shears the rows by pixels.
+void BuildRpy(Scene& s) {
+  BuildRoomWithWalkers(s, /*add_walkers=*/false);
+  Rng rng(Mix64(s.seed) ^ 0x0a7e5ULL);
+  CameraPath& c = s.camera;
+  for (Oscillation& w : c.wobble) w = Osc(rng, 0.04, 1.1);
+  c.yaw = Osc(rng, 0.35, 3.0);    // peak 1.05 rad/s
+  c.pitch = Osc(rng, 0.15, 3.7);  // 0.55 rad/s
+  c.roll = Osc(rng, 0.2, 2.6);    // 0.52 rad/s
+}
+
 void BuildDegenerate(Scene& s) {
   Rng rng(Mix64(s.seed) ^ 0xde6e4e7a7eULL);
   AddRoom(s, rng);
@@ -174,7 +187,7 @@ void BuildObjects(Scene& s) {
 }  // namespace
 
 const std::vector<std::string>& PresetNames() {
-  static const std::vector<std::string> names = {"static", "walkers", "degenerate", "objects"};
+  static const std::vector<std::string> names = {"static", "walkers", "degenerate", "objects", "rpy"};
   return names;
 }
 
@@ -188,8 +201,10 @@ Scene BuildScene(const std::string& preset, std::uint32_t seed) {
     BuildDegenerate(s);
   } else if (preset == "objects") {
     BuildObjects(s);
+  } else if (preset == "rpy") {
+    BuildRpy(s);
   } else {
-    throw InputError("unknown synth preset '" + preset + "' (choose static, walkers, degenerate or objects)");
+    throw InputError("unknown synth preset '" + preset + "' (choose static, walkers, degenerate, objects or rpy)");
   }
   return s;
 }

@@ -6,6 +6,9 @@
 //               epipolar lines, the known blind spot of epipolar checks)
 //   objects     static furniture of COCO classes with known boxes, seen while the
 //               camera turns round the room
+//   rpy         static's room seen from near one spot while the camera rolls,
+//               pitches and yaws fast (up to ~1.3 rad/s), like TUM fr1_rpy: for
+//               the rolling-shutter model (synth --readout)
 // `static` and `walkers` with the same seed share the room and the camera path.
 #pragma once
 

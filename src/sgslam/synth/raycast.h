@@ -28,4 +28,9 @@ struct RayCastResult {
 // quads_c: the surfaces in the camera frame (x right, y down, z forward).
 RayCastResult RayCast(const std::vector<Quad>& quads_c, const Intrinsics& K);
 
+// A rolling shutter: row y is seen from its own camera, T_c_w_rows[y] (one per
+// row, K.height of them); quads_w in the world frame. Depths are camera z of the
+// row's camera.
+RayCastResult RayCastRows(const std::vector<Quad>& quads_w, const std::vector<SE3>& T_c_w_rows, const Intrinsics& K);
+
 }  // namespace sgslam::synth

@@ -20,8 +20,11 @@ float LightFactor(const Quad& q_w) {
   return static_cast<float>(0.55 + 0.45 * (q_w.two_sided ? std::abs(c) : std::max(c, 0.0)));
 }
 
+// quads_c: the surfaces in the camera frame (global shutter), or empty with
+// T_w_c_rows, one camera per row (rolling shutter): the hit is then found on the
+// world quad, the texture being a function of the surface coordinates alone.
 cv::Mat Shade(const Scene& scene, const std::vector<Quad>& quads_w, const std::vector<Quad>& quads_c,
-              const RayCastResult& hits, const Intrinsics& K) {
+              const std::vector<SE3>& T_w_c_rows, const RayCastResult& hits, const Intrinsics& K) {
   std::vector<float> light(quads_w.size());
   for (std::size_t i = 0; i < quads_w.size(); ++i) light[i] = LightFactor(quads_w[i]);
   cv::Mat bgr(K.height, K.width, CV_8UC3, cv::Scalar::all(0));
@@ -32,8 +35,10 @@ cv::Mat Shade(const Scene& scene, const std::vector<Quad>& quads_w, const std::v
     for (int x = 0; x < K.width; ++x) {
       const int qi = surface[x];
       if (qi < 0) continue;
-      const Quad& q = quads_c[qi];
-      const Eigen::Vector2d st = q.SurfaceCoordinates(depth[x] * K.Ray(x, y));
+      const Eigen::Vector3d p_c = depth[x] * K.Ray(x, y);
+      const Eigen::Vector2d st = quads_c.empty() ? quads_w[qi].SurfaceCoordinates(T_w_c_rows[y] * p_c)
+                                                 : quads_c[qi].SurfaceCoordinates(p_c);
+      const Quad& q = quads_w[qi];
       float c[3];
       SampleTexture(scene.textures[q.texture], st.x(), st.y(), c);
       for (int k = 0; k < 3; ++k) out[x][k] = cv::saturate_cast<uchar>(c[k] * light[qi]);
@@ -97,18 +102,26 @@ void FillObjectImages(const Scene& scene, RenderedFrame& f, const std::vector<do
 }  // namespace
 
 RenderedFrame RenderFrame(const Scene& scene, const Intrinsics& K, const SE3& T_w_c, double t_seconds,
-                          int frame_index, std::uint64_t noise_seed) {
+                          int frame_index, std::uint64_t noise_seed, const std::vector<SE3>& T_w_c_rows) {
   RenderedFrame f;
   f.index = frame_index;
   f.T_w_c = T_w_c;
   f.surfaces = scene.SurfacesAt(t_seconds);
-  const SE3 T_c_w = T_w_c.Inverse();
   std::vector<Quad> quads_c;
-  quads_c.reserve(f.surfaces.size());
-  for (const Quad& q : f.surfaces) quads_c.push_back(Transformed(T_c_w, q));
-  RayCastResult hits = RayCast(quads_c, K);
+  RayCastResult hits;
+  if (T_w_c_rows.empty()) {
+    const SE3 T_c_w = T_w_c.Inverse();
+    quads_c.reserve(f.surfaces.size());
+    for (const Quad& q : f.surfaces) quads_c.push_back(Transformed(T_c_w, q));
+    hits = RayCast(quads_c, K);
+  } else {
+    std::vector<SE3> T_c_w_rows;
+    T_c_w_rows.reserve(T_w_c_rows.size());
+    for (const SE3& T : T_w_c_rows) T_c_w_rows.push_back(T.Inverse());
+    hits = RayCastRows(f.surfaces, T_c_w_rows, K);
+  }
   f.surface = hits.surface;
-  f.bgr = Shade(scene, f.surfaces, quads_c, hits, K);
+  f.bgr = Shade(scene, f.surfaces, quads_c, T_w_c_rows, hits, K);
   cv::GaussianBlur(f.bgr, f.bgr, cv::Size(5, 5), kBlurSigma, kBlurSigma, cv::BORDER_REFLECT);
   AddNoise(f.bgr, noise_seed, frame_index);
   FillObjectImages(scene, f, hits.depth);

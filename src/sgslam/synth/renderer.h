@@ -39,7 +39,10 @@ constexpr double kDepthFactor = 5000.0;  // raw depth units per metre (TUM)
 
 // Renders the scene at time t_seconds seen from T_w_c; the noise depends only on
 // noise_seed and frame_index, so frames can render in any order or in parallel.
+// T_w_c_rows, when given (K.height poses): a rolling shutter, row y seen from
+// T_w_c_rows[y] (depth is z in that row's camera); the scene's moving objects stay
+// at t_seconds, and T_w_c is what the frame reports as its pose.
 RenderedFrame RenderFrame(const Scene& scene, const Intrinsics& K, const SE3& T_w_c, double t_seconds,
-                          int frame_index, std::uint64_t noise_seed);
+                          int frame_index, std::uint64_t noise_seed, const std::vector<SE3>& T_w_c_rows = {});
 
 }  // namespace sgslam::synth

@@ -11,9 +11,13 @@ Timestamp FrameTimestamp(int i) {
   return kFirstTimestamp + micros * 1000;
 }
 
-SynthSequence::SynthSequence(const std::string& preset, std::uint32_t seed, int frames)
-    : scene_(BuildScene(preset, seed)), frames_(frames) {
+SynthSequence::SynthSequence(const std::string& preset, std::uint32_t seed, int frames, double readout)
+    : scene_(BuildScene(preset, seed)), frames_(frames), readout_(readout) {
   if (frames <= 0) throw InputError("synth: the number of frames must be positive, got " + std::to_string(frames));
+  if (!(readout >= 0 && readout <= 1 / kFps)) {
+    throw InputError("synth: the readout time must be between 0 and one frame time (" + std::to_string(1 / kFps) +
+                     " s), got " + std::to_string(readout));
+  }
   std::uint64_t preset_hash = 0;
   for (char c : preset) preset_hash = Mix64(preset_hash ^ static_cast<unsigned char>(c));
   noise_seed_ = Mix64(seed ^ preset_hash);
@@ -37,7 +41,16 @@ Eigen::Vector3d SynthSequence::ObjectVelocity(int object_id, int i) const {
 }
 
 RenderedFrame SynthSequence::Render(int i) const {
-  RenderedFrame f = RenderFrame(scene_, intrinsics_, CameraPose(i), Seconds(i), i, noise_seed_);
+  std::vector<SE3> rows;
+  if (readout_ > 0) {
+    rows.reserve(static_cast<std::size_t>(intrinsics_.height));
+    for (int y = 0; y < intrinsics_.height; ++y) {
+      // Pixel centres have integer coordinates: RowTimeOffset of a keypoint on row y.
+      const double s = (static_cast<double>(y) / intrinsics_.height - 0.5) * readout_;
+      rows.push_back(scene_.camera.Pose(Seconds(i) + s));
+    }
+  }
+  RenderedFrame f = RenderFrame(scene_, intrinsics_, CameraPose(i), Seconds(i), i, noise_seed_, rows);
   f.t = FrameTimestamp(i);
   return f;
 }

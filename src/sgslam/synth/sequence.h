@@ -27,8 +27,11 @@ Timestamp FrameTimestamp(int i);
 
 class SynthSequence {
  public:
-  // Throws InputError for an unknown preset or frames <= 0.
-  SynthSequence(const std::string& preset, std::uint32_t seed, int frames);
+  // Throws InputError for an unknown preset, frames <= 0 or a readout outside
+  // [0, 1 / kFps]. readout > 0: a rolling shutter, row v exposed at the frame's
+  // time + (v / height - 1/2) * readout (camera/rolling_shutter.h's model, with the
+  // camera's translation as well); the ground truth is the middle row's pose.
+  SynthSequence(const std::string& preset, std::uint32_t seed, int frames, double readout = 0);
 
   int size() const { return frames_; }
   const Scene& scene() const { return scene_; }
@@ -36,6 +39,7 @@ class SynthSequence {
   const std::vector<SceneObject>& objects() const { return scene_.objects; }
 
   Timestamp timestamp(int i) const { return FrameTimestamp(i); }
+  double readout() const { return readout_; }  // s
   double Seconds(int i) const;                        // time of frame i since the first frame
   SE3 CameraPose(int i) const;                        // T_w_c
   SE3 ObjectPose(int object_id, int i) const;         // T_w_o (identity for static objects)
@@ -47,6 +51,7 @@ class SynthSequence {
   Scene scene_;
   Intrinsics intrinsics_;
   int frames_ = 0;
+  double readout_ = 0;
   std::uint64_t noise_seed_ = 0;
 };
 

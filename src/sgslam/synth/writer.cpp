@@ -1,9 +1,11 @@
 #include "sgslam/synth/writer.h"
 
 #include <atomic>
+#include <charconv>
 #include <chrono>
 #include <exception>
 #include <mutex>
+#include <sstream>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <thread>
@@ -20,6 +22,13 @@ namespace sgslam::synth {
 namespace fs = std::filesystem;
 
 namespace {
+
+// A time in s as the command line and sgslam.yaml take it back (no rounding).
+std::string FormatSeconds(double s) {
+  char buf[32];
+  const auto r = std::to_chars(buf, buf + sizeof(buf), s);  // the shortest that reads back exactly
+  return std::string(buf, r.ptr);
+}
 
 struct FrameResult {
   SE3 T_w_c;
@@ -110,7 +119,8 @@ std::string ObjectsJson(const SynthSequence& seq) {
 
 void WriteLists(const SynthSequence& seq, const std::vector<FrameResult>& results, const fs::path& out) {
   const std::string source = "sgslam synth --preset " + seq.scene().preset + " --seed " +
-                             std::to_string(seq.scene().seed);
+                             std::to_string(seq.scene().seed) +
+                             (seq.readout() > 0 ? " --readout " + FormatSeconds(seq.readout()) : "");
   WriteFileAtomically(out / "rgb.txt", ImageList(seq, "color images", "rgb", source));
   WriteFileAtomically(out / "depth.txt", ImageList(seq, "depth maps", "depth", source));
   WriteFileAtomically(out / "mask.txt", ImageList(seq, "dynamic masks (255: moving object)", "mask", source));
@@ -127,12 +137,15 @@ void WriteLists(const SynthSequence& seq, const std::vector<FrameResult>& result
   WriteTumTrajectory(out / "groundtruth.txt", groundtruth);
   WriteDetectionsFile(out / "detections.txt", detections);
   WriteFileAtomically(out / "objects_gt.json", ObjectsJson(seq));
-  WriteFileAtomically(out / "sgslam.yaml", CameraYaml());
+  WriteFileAtomically(out / "sgslam.yaml", CameraYaml(seq.readout()));
 }
 
 }  // namespace
 
-std::string CameraYaml() {
+std::string CameraYaml(double readout) {
+  std::ostringstream shutter;
+  shutter << "  readout: " << FormatSeconds(readout)
+          << (readout > 0 ? "  # s, rendered with a rolling shutter\n" : "  # rendered with a global shutter\n");
   return "# camera of the synthetic sequence written by sgslam synth\n"
          "camera:\n"
          "  width: 640\n"
@@ -148,7 +161,7 @@ std::string CameraYaml() {
          "  k3: 0.0\n"
          "  fps: 30.0\n"
          "  depth_factor: 5000.0\n"
-         "  readout: 0.0  # rendered with a global shutter\n"
+         + shutter.str() +
          "# the ground-truth boxes in detections.txt stand in for the detector: a COCO\n"
          "# network does not know the textured stand-ins for people (use --config to change)\n"
          "detector:\n"
@@ -157,7 +170,7 @@ std::string CameraYaml() {
 
 SynthSummary GenerateSequence(const SynthOptions& options, const fs::path& out) {
   const auto start = std::chrono::steady_clock::now();
-  const SynthSequence seq(options.preset, options.seed, options.frames);  // checks preset and frames first
+  const SynthSequence seq(options.preset, options.seed, options.frames, options.readout);  // checks preset and frames first
   CheckOutputFolder(out, options.force);
   for (const char* sub : {"rgb", "depth", "mask"}) {
     std::error_code ec;

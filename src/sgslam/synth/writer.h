@@ -13,11 +13,12 @@
 namespace sgslam::synth {
 
 struct SynthOptions {
-  std::string preset = "walkers";  // static | walkers | degenerate | objects
+  std::string preset = "walkers";  // static | walkers | degenerate | objects | rpy
   std::uint32_t seed = 1;          // scene layout, textures, paths and noise
   int frames = 300;                // at 30 Hz
   bool force = false;              // write into a non-empty folder, replacing only our files
   int threads = 2;                 // render workers
+  double readout = 0;              // s, rolling-shutter readout (synth/sequence.h); 0: global shutter
 };
 
 struct SynthSummary {
@@ -33,7 +34,7 @@ struct SynthSummary {
 // or any file that cannot be written (naming it).
 SynthSummary GenerateSequence(const SynthOptions& options, const std::filesystem::path& out);
 
-// The camera section of sgslam.yaml, as written.
-std::string CameraYaml();
+// The camera section of sgslam.yaml, as written, with its readout (s).
+std::string CameraYaml(double readout = 0);
 
 }  // namespace sgslam::synth
