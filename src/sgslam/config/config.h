@@ -143,10 +143,20 @@ struct TrackingConfig {
   // when the next frame is tracked, the keyframe's keypoints are corrected again
   // with the central difference of the poses on either side (no lag; the fitted
   // velocity lags by ~1.5 frames), its depth points move with them and the next
-  // frame is fitted again (Tracker::KeyFramesWait). Panels of 5 ORB budgets,
+  // frame is fitted again (Tracker::KeyFramesWait); the map's first keyframe takes
+  // the velocity of the step to the next frame (it had none). Panels of 5 ORB budgets,
   // sequential, off -> on: fr1_rpy none 0.0099 -> 0.0091 m, dyn_dev sg 0.0183 ->
   // 0.0176 (budgets 925-1125: 0.0114 -> 0.0097, 0.0198 -> 0.0161). README "Rolling shutter".
   bool keyframe_velocity_central = true;
+  // The same for every frame, for the exported trajectory: when frame n+1 is
+  // tracked, frame n's keypoints are corrected with the central difference of the
+  // poses of frames n-1 and n+1 and frame n is fitted again to its matches;
+  // trajectory.txt takes that pose, trajectory_online.txt and tracking keep the
+  // live one (Tracker::RefinePrevious). Panels of 5 ORB budgets, sequential, off
+  // -> on: fr1_rpy none 0.0091 -> 0.0082 m, sg 0.0109 -> 0.0095, dyn_dev sg 0.0171
+  // -> 0.0159; no gain on the rendered shutter of synth --readout, where the fitted
+  // velocity is already good. README "Rolling shutter".
+  bool frame_velocity_central = true;
 
   template <class V>
   void Visit(V&& v) {
@@ -170,6 +180,7 @@ struct TrackingConfig {
     v("rolling_shutter_refine", rolling_shutter_refine, "fit the frame's angular velocity with its pose and correct the keypoints again");
     v("rolling_shutter_prior", rolling_shutter_prior, "rad/s, sigma of the fitted angular velocity around the predicted one");
     v("keyframe_velocity_central", keyframe_velocity_central, "correct a keyframe one frame later with the velocity of the frames around it");
+    v("frame_velocity_central", frame_velocity_central, "fit every frame again one frame later with the velocity of the frames around it (exported trajectory)");
   }
   void Validate(ConfigChecker& c) const;
 };

@@ -146,9 +146,16 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
   report.inliers = result.inliers;
   report.trusted = result.trusted;
   report.track_ms = watch.ElapsedMs();
+  if (result.previous_refined && !records_.empty() && records_.back().frame_id == result.previous_refined->frame_id) {
+    // The previous frame, fitted again with the velocity of the frames on either
+    // side of it: its exported pose (relative to the same reference keyframe).
+    std::shared_lock lock(map_.mutex());
+    PoseRecord& r = records_.back();
+    r.T_c_r = result.previous_refined->T_c_w * r.reference->T_w_c();
+  }
   if (result.state == TrackState::kOk && frame.reference_kf) {
     std::shared_lock lock(map_.mutex());
-    records_.push_back({frame.t, frame.reference_kf, frame.T_c_w * frame.reference_kf->T_w_c(), frame.T_c_w.Inverse()});
+    records_.push_back({frame.id, frame.t, frame.reference_kf, frame.T_c_w * frame.reference_kf->T_w_c(), frame.T_c_w.Inverse()});
   }
   // The last frame's keyframe, corrected by Track with this frame's pose (Tracker::KeyFramesWait).
   if (waiting_) {

@@ -105,6 +105,7 @@ class SlamSystem {
   LocalMapper mapper_;
 
   struct PoseRecord {
+    std::uint64_t frame_id;
     Timestamp t;
     std::shared_ptr<KeyFrame> reference;
     SE3 T_c_r;     // frame pose relative to the reference keyframe

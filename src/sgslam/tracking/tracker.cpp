@@ -85,6 +85,9 @@ TrackResult Tracker::Track(Frame& frame, bool mapping_idle, std::size_t mapping_
     }
     waiting_.reset();
   }
+  if (ok) {
+    if (const auto refined = RefinePrevious(frame)) result.previous_refined = TrackResult::Refined{last_frame_.id, *refined};
+  }
 
   if (!ok) {
     // Lost: the map stays untouched; the next frame starts from the last good pose.
@@ -109,7 +112,7 @@ TrackResult Tracker::Track(Frame& frame, bool mapping_idle, std::size_t mapping_
   if (need_keyframe) {
     result.new_keyframe = CreateKeyFrame(frame);
     if (KeyFramesWait() && last_frame_.has_pose && last_frame_.id + 1 == frame.id) {
-      waiting_ = Waiting{result.new_keyframe, last_frame_.t, last_frame_.T_c_w};
+      waiting_ = Waiting{result.new_keyframe, BeforeOf(last_frame_)};
     }
   }
   {
@@ -118,9 +121,20 @@ TrackResult Tracker::Track(Frame& frame, bool mapping_idle, std::size_t mapping_
   }
   // Outliers of this frame must not seed the next frame's motion search.
   DiscardOutliers(frame);
+  before_last_.reset();
+  if (last_frame_.has_pose) before_last_ = BeforeOf(last_frame_);
   last_frame_ = frame;
   result.state = state_;
   return result;
+}
+
+Tracker::Before Tracker::BeforeOf(const Frame& frame) {
+  Before b{frame.id, frame.t, frame.T_c_w, frame.reference_kf, frame.T_c_w};
+  if (frame.reference_kf) {
+    std::shared_lock lock(map_.mutex());
+    b.T_c_r = frame.T_c_w * frame.reference_kf->T_w_c();
+  }
+  return b;
 }
 
 bool Tracker::KeyFramesWait() const {
@@ -129,11 +143,11 @@ bool Tracker::KeyFramesWait() const {
 
 bool Tracker::CorrectWaitingKeyFrame(const Waiting& waiting, const Frame& next) {
   const std::shared_ptr<KeyFrame>& kf = waiting.keyframe;
-  const auto w = AngularVelocity(next.T_c_w * waiting.T_c_w_before.Inverse(), ToSeconds(next.t - waiting.t_before));
-  if (!w) return false;
-  const std::shared_ptr<const Features> corrected = WithRollingShutterCorrection(*kf->features, *w);
   std::unique_lock lock(map_.mutex());
   if (kf->bad()) return false;
+  const auto w = AngularVelocity(next.T_c_w * waiting.before.Pose().Inverse(), ToSeconds(next.t - waiting.before.t));
+  if (!w) return false;
+  const std::shared_ptr<const Features> corrected = WithRollingShutterCorrection(*kf->features, *w);
   kf->ReplaceFeatures(corrected);
   // The points it made from its depth (AddDepthPoints) follow their keypoints.
   const SE3 T_w_c = kf->T_w_c();
@@ -145,6 +159,29 @@ bool Tracker::CorrectWaitingKeyFrame(const Waiting& waiting, const Frame& next) 
     }
   }
   return true;
+}
+
+std::optional<SE3> Tracker::RefinePrevious(const Frame& next) {
+  if (!config_.tracking.frame_velocity_central || config_.camera.readout <= 0) return std::nullopt;
+  if (!before_last_ || !last_frame_.has_pose) return std::nullopt;
+  if (before_last_->id + 1 != last_frame_.id || last_frame_.id + 1 != next.id) return std::nullopt;
+  std::shared_lock lock(map_.mutex());
+  const auto w = AngularVelocity(next.T_c_w * before_last_->Pose().Inverse(), ToSeconds(next.t - before_last_->t));
+  if (!w) return std::nullopt;
+  // A copy: the motion model and the next search go on from the pose tracking gave
+  // it (refining it there too was not measured to help; see README "Rolling shutter").
+  Frame copy = last_frame_;
+  copy.features = WithRollingShutterCorrection(*last_frame_.features, *w);
+  int matched = 0;
+  for (auto& p : copy.map_points) {
+    if (p && p->bad()) p.reset();  // culled or fused since
+    matched += p && p->num_observations() > 0;
+  }
+  // Fitted again, the frame must keep nearly all the matches it was tracked with
+  // (they were all inliers): a velocity that fits it worse is not a better one.
+  const int inliers = OptimizePose(copy);
+  if (inliers < config_.tracking.min_pose_inliers || inliers < 0.9 * matched) return std::nullopt;
+  return copy.T_c_w;
 }
 
 bool Tracker::Initialize(Frame& frame, TrackResult& result) {
@@ -191,6 +228,9 @@ bool Tracker::Initialize(Frame& frame, TrackResult& result) {
   last_keyframe_frame_id_ = frame.id;
   result.new_keyframe = kf;
   result.inliers = kf->TrackedMapPoints(1);
+  // The first keyframe's keypoints had no velocity to be corrected with: it waits
+  // for the next frame too, and gets the angular velocity of the step to it.
+  if (KeyFramesWait()) waiting_ = Waiting{kf, Before{frame.id, frame.t, frame.T_c_w, kf, SE3()}};
   return true;
 }
 

@@ -30,6 +30,14 @@ struct TrackResult {
   int inliers = 0;  // after it
   int trusted = 0;  // of the inliers, map points trusted to set the pose (trusted_pose.h)
   std::shared_ptr<KeyFrame> new_keyframe;  // for local mapping, when one was made
+  // tracking.frame_velocity_central: the previous frame's pose fitted again once
+  // this frame's pose is known (Tracker::RefinePrevious); for the exported
+  // trajectory only, tracking goes on from the pose it had.
+  struct Refined {
+    std::uint64_t frame_id = 0;
+    SE3 T_c_w;
+  };
+  std::optional<Refined> previous_refined;
 };
 
 class Tracker {
@@ -44,8 +52,9 @@ class Tracker {
   // waits for the next frame before it goes to local mapping: Track then corrects
   // its keypoints with the angular velocity of the poses on either side (central
   // difference, no lag) instead of the one fitted within its own frame, which lags
-  // the truth by about 1.5 frames, and moves the points it made. Its points are in
-  // the map meanwhile. The caller hands a new keyframe to local mapping after the
+  // the truth by about 1.5 frames, and moves the points it made. The map's first
+  // keyframe, which had no velocity at all, gets the one of the step to the next
+  // frame. Its points are in the map meanwhile. The caller hands a new keyframe to local mapping after the
   // next Track call (or at the end of the sequence) when this is true.
   bool KeyFramesWait() const;
 
@@ -95,16 +104,34 @@ class Tracker {
   SE3 last_T_c_r_;  // last frame's pose relative to its reference keyframe
   std::uint64_t last_keyframe_frame_id_ = 0;
   double th_depth_ = 0;  // m, the close/far limit of depth points
+  // The tracked frame before last_frame_ (id, time, pose), for the central difference.
+  // Kept relative to its reference keyframe, as last_frame_ is: local BA may move
+  // the map before the next frame, and a central difference across two versions
+  // of the map would measure the move as a turn.
+  struct Before {
+    std::uint64_t id = 0;
+    Timestamp t = 0;
+    SE3 T_c_w;  // when the keyframe is gone
+    std::shared_ptr<KeyFrame> reference;
+    SE3 T_c_r;
+    SE3 Pose() const { return reference && !reference->bad() ? T_c_r * reference->T_c_w() : T_c_w; }  // map lock held
+  };
   // The last frame's keyframe and the tracked frame before it (KeyFramesWait).
   struct Waiting {
     std::shared_ptr<KeyFrame> keyframe;
-    Timestamp t_before;
-    SE3 T_c_w_before;
+    Before before;  // the tracked frame before the keyframe's
   };
   std::optional<Waiting> waiting_;
   // Corrects the waiting keyframe with next, the frame after it (tracked);
   // false when it could not (no velocity, or the keyframe was culled).
   bool CorrectWaitingKeyFrame(const Waiting& waiting, const Frame& next);
+  std::optional<Before> before_last_;
+  Before BeforeOf(const Frame& frame);  // takes the map's shared lock
+  // tracking.frame_velocity_central: last_frame_'s keypoints corrected with the
+  // angular velocity of the poses on either side (before_last_ and next, both
+  // tracked and adjacent), and its pose fitted again to its matches; none when
+  // it cannot be. Leaves last_frame_ as it is.
+  std::optional<SE3> RefinePrevious(const Frame& next);
   // Frames the initialisation waited for more kept keypoints with depth (Initialize).
   static constexpr int kMaxInitDeferrals = 5;
   int init_deferred_ = 0;
