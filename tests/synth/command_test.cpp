@@ -102,9 +102,26 @@ TEST(SynthCommand, BadArgumentsGiveClearErrors) {
   const auto frames = test::RunSgslam({"synth", "--frames", "0", "--out", (dir / "b").string()});
   EXPECT_NE(frames.exit_code, 0);
   EXPECT_NE(frames.output.find("frames"), std::string::npos) << frames.output;
+  const auto readout = test::RunSgslam({"synth", "--readout", "0.5", "--out", (dir / "c").string()});
+  EXPECT_EQ(readout.exit_code, 1);
+  EXPECT_NE(readout.output.find("readout"), std::string::npos) << readout.output;
   EXPECT_FALSE(fs::exists(dir / "a"));
   EXPECT_FALSE(fs::exists(dir / "b"));
+  EXPECT_FALSE(fs::exists(dir / "c"));
   EXPECT_NE(test::RunSgslam({"synth", "--frames", "2"}).exit_code, 0);  // --out is required
+}
+
+// --readout: a rolling shutter, and a camera in sgslam.yaml that says so; the run
+// configuration of the folder reads it back exactly.
+TEST(SynthCommand, ARollingShutterSequenceCarriesItsReadout) {
+  test::TempDir dir;
+  const fs::path out = dir / "rpy";
+  const auto r = test::RunSgslam({"synth", "--preset", "rpy", "--frames", "3", "--readout", "0.03", "--out", out.string()});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(ReadAll(out / "sgslam.yaml"), synth::CameraYaml(0.03));
+  EXPECT_NE(ReadAll(out / "sgslam.yaml").find("readout: 0.03  #"), std::string::npos);
+  EXPECT_NE(ReadAll(out / "rgb.txt").find("--preset rpy --seed 1 --readout 0.03"), std::string::npos);
+  EXPECT_EQ(ResolveRunConfig(std::nullopt, out).config.camera.readout, 0.03);
 }
 
 }  // namespace
