@@ -79,7 +79,7 @@ TrackResult Tracker::Track(Frame& frame, bool mapping_idle, std::size_t mapping_
   // The last frame's keyframe, corrected with this frame's pose; this frame is then
   // fitted again to its corrected points.
   if (waiting_) {
-    if (ok && CorrectWaitingKeyFrame(*waiting_, frame)) {
+    if (ok && before_last_ && CorrectWaitingKeyFrame(waiting_, *before_last_, frame)) {
       std::shared_lock lock(map_.mutex());
       OptimizePose(frame);
     }
@@ -111,9 +111,8 @@ TrackResult Tracker::Track(Frame& frame, bool mapping_idle, std::size_t mapping_
   }
   if (need_keyframe) {
     result.new_keyframe = CreateKeyFrame(frame);
-    if (KeyFramesWait() && last_frame_.has_pose && last_frame_.id + 1 == frame.id) {
-      waiting_ = Waiting{result.new_keyframe, BeforeOf(last_frame_)};
-    }
+    // Its frame before is last_frame_, which becomes before_last_ below.
+    if (KeyFramesWait() && last_frame_.has_pose && last_frame_.id + 1 == frame.id) waiting_ = result.new_keyframe;
   }
   {
     std::shared_lock lock(map_.mutex());
@@ -122,7 +121,9 @@ TrackResult Tracker::Track(Frame& frame, bool mapping_idle, std::size_t mapping_
   // Outliers of this frame must not seed the next frame's motion search.
   DiscardOutliers(frame);
   before_last_.reset();
-  if (last_frame_.has_pose) before_last_ = BeforeOf(last_frame_);
+  if (UsesCentralDifference() && last_frame_.has_pose && last_frame_.id + 1 == frame.id) {
+    before_last_ = BeforeOf(last_frame_);
+  }
   last_frame_ = frame;
   result.state = state_;
   return result;
@@ -141,11 +142,14 @@ bool Tracker::KeyFramesWait() const {
   return config_.tracking.keyframe_velocity_central && config_.camera.readout > 0;
 }
 
-bool Tracker::CorrectWaitingKeyFrame(const Waiting& waiting, const Frame& next) {
-  const std::shared_ptr<KeyFrame>& kf = waiting.keyframe;
+bool Tracker::UsesCentralDifference() const {
+  return KeyFramesWait() || (config_.tracking.frame_velocity_central && config_.camera.readout > 0);
+}
+
+bool Tracker::CorrectWaitingKeyFrame(const std::shared_ptr<KeyFrame>& kf, const Before& before, const Frame& next) {
   std::unique_lock lock(map_.mutex());
   if (kf->bad()) return false;
-  const auto w = AngularVelocity(next.T_c_w * waiting.before.Pose().Inverse(), ToSeconds(next.t - waiting.before.t));
+  const auto w = AngularVelocity(next.T_c_w * before.Pose().Inverse(), ToSeconds(next.t - before.t));
   if (!w) return false;
   const std::shared_ptr<const Features> corrected = WithRollingShutterCorrection(*kf->features, *w);
   kf->ReplaceFeatures(corrected);
@@ -163,8 +167,9 @@ bool Tracker::CorrectWaitingKeyFrame(const Waiting& waiting, const Frame& next) 
 
 std::optional<SE3> Tracker::RefinePrevious(const Frame& next) {
   if (!config_.tracking.frame_velocity_central || config_.camera.readout <= 0) return std::nullopt;
-  if (!before_last_ || !last_frame_.has_pose) return std::nullopt;
-  if (before_last_->id + 1 != last_frame_.id || last_frame_.id + 1 != next.id) return std::nullopt;
+  // before_last_ is adjacent to last_frame_ by construction, except for the map's
+  // first frame (its own pose, no central difference).
+  if (!before_last_ || before_last_->id + 1 != last_frame_.id || last_frame_.id + 1 != next.id) return std::nullopt;
   std::shared_lock lock(map_.mutex());
   const auto w = AngularVelocity(next.T_c_w * before_last_->Pose().Inverse(), ToSeconds(next.t - before_last_->t));
   if (!w) return std::nullopt;
@@ -230,7 +235,10 @@ bool Tracker::Initialize(Frame& frame, TrackResult& result) {
   result.inliers = kf->TrackedMapPoints(1);
   // The first keyframe's keypoints had no velocity to be corrected with: it waits
   // for the next frame too, and gets the angular velocity of the step to it.
-  if (KeyFramesWait()) waiting_ = Waiting{kf, Before{frame.id, frame.t, frame.T_c_w, kf, SE3()}};
+  if (KeyFramesWait()) {
+    waiting_ = kf;
+    before_last_ = Before{frame.id, frame.t, frame.T_c_w, kf, SE3()};
+  }
   return true;
 }
 

@@ -54,8 +54,9 @@ class Tracker {
   // difference, no lag) instead of the one fitted within its own frame, which lags
   // the truth by about 1.5 frames, and moves the points it made. The map's first
   // keyframe, which had no velocity at all, gets the one of the step to the next
-  // frame. Its points are in the map meanwhile. The caller hands a new keyframe to local mapping after the
-  // next Track call (or at the end of the sequence) when this is true.
+  // frame. Its points are in the map meanwhile. The caller hands a new keyframe to
+  // local mapping after the next Track call (or at the end of the sequence) when
+  // this is true.
   bool KeyFramesWait() const;
 
   TrackState state() const { return state_; }
@@ -104,8 +105,7 @@ class Tracker {
   SE3 last_T_c_r_;  // last frame's pose relative to its reference keyframe
   std::uint64_t last_keyframe_frame_id_ = 0;
   double th_depth_ = 0;  // m, the close/far limit of depth points
-  // The tracked frame before last_frame_ (id, time, pose), for the central difference.
-  // Kept relative to its reference keyframe, as last_frame_ is: local BA may move
+  // A tracked frame (id, time, pose), for the central difference. Kept relative to its reference keyframe, as last_frame_ is: local BA may move
   // the map before the next frame, and a central difference across two versions
   // of the map would measure the move as a turn.
   struct Before {
@@ -116,17 +116,18 @@ class Tracker {
     SE3 T_c_r;
     SE3 Pose() const { return reference && !reference->bad() ? T_c_r * reference->T_c_w() : T_c_w; }  // map lock held
   };
-  // The last frame's keyframe and the tracked frame before it (KeyFramesWait).
-  struct Waiting {
-    std::shared_ptr<KeyFrame> keyframe;
-    Before before;  // the tracked frame before the keyframe's
-  };
-  std::optional<Waiting> waiting_;
-  // Corrects the waiting keyframe with next, the frame after it (tracked);
-  // false when it could not (no velocity, or the keyframe was culled).
-  bool CorrectWaitingKeyFrame(const Waiting& waiting, const Frame& next);
+  // The tracked frame before last_frame_ when they are adjacent; for the map's
+  // first keyframe, that frame itself (the step to the next frame is then all there is).
   std::optional<Before> before_last_;
   Before BeforeOf(const Frame& frame);  // takes the map's shared lock
+  // Whether either central difference is on (before_last_ is kept only then).
+  bool UsesCentralDifference() const;
+  // last_frame_'s keyframe, waiting for this frame (KeyFramesWait).
+  std::shared_ptr<KeyFrame> waiting_;
+  // Corrects the waiting keyframe with next, the frame after it (tracked), and
+  // before, the frame before it; false when it could not (no velocity, or the
+  // keyframe was culled).
+  bool CorrectWaitingKeyFrame(const std::shared_ptr<KeyFrame>& kf, const Before& before, const Frame& next);
   // tracking.frame_velocity_central: last_frame_'s keypoints corrected with the
   // angular velocity of the poses on either side (before_last_ and next, both
   // tracked and adjacent), and its pose fitted again to its matches; none when
