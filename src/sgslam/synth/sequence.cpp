@@ -1,5 +1,6 @@
 #include "sgslam/synth/sequence.h"
 
+#include "sgslam/camera/rolling_shutter.h"
 #include "sgslam/common/error.h"
 #include "sgslam/synth/presets.h"
 #include "sgslam/synth/random.h"
@@ -45,9 +46,8 @@ RenderedFrame SynthSequence::Render(int i) const {
   if (readout_ > 0) {
     rows.reserve(static_cast<std::size_t>(intrinsics_.height));
     for (int y = 0; y < intrinsics_.height; ++y) {
-      // Pixel centres have integer coordinates: RowTimeOffset of a keypoint on row y.
-      const double s = (static_cast<double>(y) / intrinsics_.height - 0.5) * readout_;
-      rows.push_back(scene_.camera.Pose(Seconds(i) + s));
+      // The tracker's model of the timing, for the pixel centres of row y.
+      rows.push_back(scene_.camera.Pose(Seconds(i) + RowTimeOffset(y, intrinsics_.height, readout_)));
     }
   }
   RenderedFrame f = RenderFrame(scene_, intrinsics_, CameraPose(i), Seconds(i), i, noise_seed_, rows);

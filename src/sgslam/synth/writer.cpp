@@ -5,7 +5,6 @@
 #include <chrono>
 #include <exception>
 #include <mutex>
-#include <sstream>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <thread>
@@ -143,9 +142,8 @@ void WriteLists(const SynthSequence& seq, const std::vector<FrameResult>& result
 }  // namespace
 
 std::string CameraYaml(double readout) {
-  std::ostringstream shutter;
-  shutter << "  readout: " << FormatSeconds(readout)
-          << (readout > 0 ? "  # s, rendered with a rolling shutter\n" : "  # rendered with a global shutter\n");
+  const std::string shutter = "  readout: " + FormatSeconds(readout) +
+                              (readout > 0 ? "  # s, rendered with a rolling shutter\n" : "  # rendered with a global shutter\n");
   return "# camera of the synthetic sequence written by sgslam synth\n"
          "camera:\n"
          "  width: 640\n"
@@ -161,7 +159,7 @@ std::string CameraYaml(double readout) {
          "  k3: 0.0\n"
          "  fps: 30.0\n"
          "  depth_factor: 5000.0\n"
-         + shutter.str() +
+         + shutter +
          "# the ground-truth boxes in detections.txt stand in for the detector: a COCO\n"
          "# network does not know the textured stand-ins for people (use --config to change)\n"
          "detector:\n"
