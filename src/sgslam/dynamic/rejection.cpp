@@ -7,6 +7,7 @@
 
 #include "sgslam/common/error.h"
 #include "sgslam/common/stats.h"
+#include "sgslam/dynamic/rolling_pairs.h"
 
 namespace sgslam::dynamic {
 
@@ -135,7 +136,8 @@ PairSet TrackPairs(const FlowFrame& prev, const FlowFrame& cur, const std::vecto
 
 RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>& keys,
                            const std::vector<Detection>& detections, const WeightFn& weight,
-                           const DynamicConfig& config, const DepthCheckInput* depth, const DynamicPrior* prior) {
+                           const DynamicConfig& config, const DepthCheckInput* depth, const DynamicPrior* prior,
+                           const RollingShutterInput* rolling) {
   const Stopwatch total;
   const Mode mode = ParseMode(config.mode);
   RejectionResult r;
@@ -192,24 +194,40 @@ RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>
     r.keypoints[i].prev = flow.prev[i];
     valid[i] = flow.status[i] == PairStatus::kOk;
     if (!valid[i]) continue;
-    p1.emplace_back(pairs.prev_un[i].x, pairs.prev_un[i].y);
-    p2.emplace_back(pairs.cur_un[i].x, pairs.cur_un[i].y);
-    const bool pref = (mode != Mode::kSg || w_fit[i] <= 1.0) && !(prior != nullptr && prior->Dynamic(flow.prev[i]));
-    preferred.push_back(pref);
-    use_motion[i] = pref;
+    use_motion[i] = (mode != Mode::kSg || w_fit[i] <= 1.0) && !(prior != nullptr && prior->Dynamic(flow.prev[i]));
+  }
+  // A rolling shutter bends the two images differently when the turn speeds up or
+  // slows down: the pairs go to their middle-row cameras first (rolling_pairs.h).
+  std::optional<PairSet> turned;
+  std::optional<RollingShutterFit> rolling_fit;
+  if (rolling != nullptr && config.rolling_shutter_pairs && rolling->readout > 0) {
+    turned = pairs;
+    rolling_fit = CorrectPairsForRollingShutter(*turned, use_motion, *rolling, config);
+    if (rolling_fit->fitted) r.angular_velocity = rolling_fit->w_cur;
+  }
+  const std::vector<cv::Point2f>& prev_un = turned ? turned->prev_un : pairs.prev_un;
+  const std::vector<cv::Point2f>& cur_un = turned ? turned->cur_un : pairs.cur_un;
+  for (size_t i = 0; i < keys.size(); ++i) {
+    if (!valid[i]) continue;
+    p1.emplace_back(prev_un[i].x, prev_un[i].y);
+    p2.emplace_back(cur_un[i].x, cur_un[i].y);
+    preferred.push_back(use_motion[i]);
   }
   r.fundamental = EstimateFundamental(p1, p2, preferred, config);  // line 3
   if (r.fundamental) {
     for (size_t i = 0, k = 0; i < keys.size(); ++i) {
       if (valid[i]) r.keypoints[i].distance = EpipolarDistance(r.fundamental->F_cur_prev, p1[k], p2[k]), ++k;
     }
-    if (!r.fundamental->from_static) use_motion = valid;  // too few preferred pairs: all
+    if (!r.fundamental->from_static) {  // too few preferred pairs: all
+      use_motion = valid;
+      if (rolling_fit) rolling_fit->fitted = false;  // fitted on the preferred ones
+    }
     if (config.judge_appearance_pairs) {
       for (size_t i = 0; i < keys.size(); ++i) {
         if (flow.status[i] != PairStatus::kAppearance) continue;
         r.keypoints[i].loose_distance =
-            EpipolarDistance(r.fundamental->F_cur_prev, Eigen::Vector2d(pairs.prev_un[i].x, pairs.prev_un[i].y),
-                             Eigen::Vector2d(pairs.cur_un[i].x, pairs.cur_un[i].y));
+            EpipolarDistance(r.fundamental->F_cur_prev, Eigen::Vector2d(prev_un[i].x, prev_un[i].y),
+                             Eigen::Vector2d(cur_un[i].x, cur_un[i].y));
       }
     }
   }
@@ -221,8 +239,13 @@ RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>
   if (config.depth_check && depth != nullptr) {
     std::optional<DepthCheckInput> with_motion;
     const DepthCheckInput* in = depth;
-    if (config.depth_motion == "pnp") {
-      r.motion = EstimateMotion(flow.prev, pairs.prev_un, pairs.cur_un, use_motion, depth->prev_depth,
+    if (config.depth_motion == "pnp" && rolling_fit && rolling_fit->fitted) {
+      r.motion = MotionEstimate{rolling_fit->T_cur_prev, rolling_fit->inliers, rolling_fit->inliers};
+      with_motion = *depth;
+      with_motion->T_cur_prev = r.motion->T_cur_prev;
+      in = &*with_motion;
+    } else if (config.depth_motion == "pnp") {
+      r.motion = EstimateMotion(flow.prev, prev_un, cur_un, use_motion, depth->prev_depth,
                                 depth->depth_factor, depth->K, config);
       if (r.motion) {
         with_motion = *depth;
@@ -243,7 +266,7 @@ RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>
         fixed->reprojection_median_factor = 0;
       }
       const std::vector<DepthResidual> residuals =
-          CheckDepth(flow.prev, pairs.cur, pairs.prev_un, pairs.cur_un, valid, *in, fixed ? *fixed : config);
+          CheckDepth(flow.prev, pairs.cur, prev_un, cur_un, valid, *in, fixed ? *fixed : config);
       int checked = 0, flagged = 0;
       for (size_t i = 0; i < keys.size(); ++i) {
         moved[i] = residuals[i].valid && residuals[i].moved;

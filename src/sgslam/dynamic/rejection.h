@@ -106,6 +106,8 @@ struct DynamicPrior {
   int Memory(cv::Point2f p) const;  // frames the cell at p stays dynamic; 0: static or no prior
 };
 
+struct RollingShutterInput;  // rolling_pairs.h
+
 struct RejectionResult {
   std::vector<KeypointVerdict> keypoints;  // one per input keypoint, same order
   int kept = 0, rejected_geometry = 0, rejected_semantics = 0, rejected_depth = 0, rejected_unmatched = 0;
@@ -114,6 +116,9 @@ struct RejectionResult {
   std::optional<FundamentalEstimate> fundamental;
   std::optional<MotionEstimate> motion;  // PnP motion of the RGB-D check (depth_motion = pnp)
   bool depth_ignored = false;            // the check flagged more than config.depth_max_share: ignored
+  // The current frame's angular velocity fitted from the pairs (rolling_pairs.h);
+  // none without a rolling shutter or too few pairs.
+  std::optional<Eigen::Vector3d> angular_velocity;
   double eps_used = 0;  // px, eps_std after fallback relaxation
   int relax_steps = 0;  // fallback relaxation steps taken
   int restored = 0;     // keypoints kept by the fallback ranking (or by restore-all)
@@ -129,10 +134,13 @@ PairSet TrackPairs(const FlowFrame& prev, const FlowFrame& cur, const std::vecto
 // depth: the RGB-D check's inputs, used when config.depth_check (null: skipped);
 // with depth_motion = pnp its T_cur_prev is replaced by the PnP estimate (no
 // estimate: no check). prior: config.prior_cell's map of the previous frame.
+// rolling: a rolling-shutter camera's velocities (rolling_pairs.h); with
+// config.rolling_shutter_pairs the pairs are moved to their middle-row cameras
+// before F and the RGB-D check, and the fitted motion is the check's.
 RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>& keys,
                            const std::vector<Detection>& detections, const WeightFn& weight,
                            const DynamicConfig& config, const DepthCheckInput* depth = nullptr,
-                           const DynamicPrior* prior = nullptr);
+                           const DynamicPrior* prior = nullptr, const RollingShutterInput* rolling = nullptr);
 
 // The prior for the next frame from this frame's verdicts: a cell is dynamic when
 // most of its keypoints are; a rejected keypoint counts for `memory` frames, passed

@@ -9,6 +9,7 @@
 #include "sgslam/camera/camera.h"
 #include "sgslam/common/stats.h"
 #include "sgslam/dynamic/neighbours.h"
+#include "sgslam/dynamic/rolling_pairs.h"
 
 namespace sgslam {
 
@@ -129,7 +130,8 @@ std::vector<bool> DynamicStage::ShowMotion(const std::vector<cv::KeyPoint>& keys
 }
 
 DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, const cv::Mat& depth_raw,
-                                   const std::vector<cv::KeyPoint>& keys, const std::optional<SE3>& T_cur_prev) {
+                                   const std::vector<cv::KeyPoint>& keys, const std::optional<SE3>& T_cur_prev,
+                                   const std::optional<TurnRates>& turn) {
   DynamicOutcome out;
   out.dynamic.assign(keys.size(), 0);
   out.detector_used = worker_ != nullptr;
@@ -214,8 +216,21 @@ DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, 
     for (const Detection& d : out.detections) {
       if (d.box.area() <= max_area) judged.push_back(d);
     }
-    dynamic::RejectionResult r = dynamic::JudgePairs(pairs, keys, judged, weight, dyn,
-                                                     depth ? &*depth : nullptr, prior_.cell > 0 ? &prior_ : nullptr);
+    std::optional<dynamic::RollingShutterInput> rolling;
+    if (turn && config_.camera.readout > 0 && !first) {
+      rolling.emplace();
+      rolling->readout = config_.camera.readout;
+      rolling->height = gray.rows;
+      rolling->w_prev = turn->previous;
+      rolling->w_guess = turn->predicted;
+      rolling->prev_depth = prev_depth_;
+      rolling->depth_factor = config_.camera.depth_factor;
+      rolling->K = {camera_->fx(), camera_->fy(), camera_->cx(), camera_->cy()};
+    }
+    dynamic::RejectionResult r =
+        dynamic::JudgePairs(pairs, keys, judged, weight, dyn, depth ? &*depth : nullptr,
+                            prior_.cell > 0 ? &prior_ : nullptr, rolling ? &*rolling : nullptr);
+    out.angular_velocity = r.angular_velocity;
     if (dc.forward_check > 0 && mode_ != dynamic::Mode::kSemantic && !first) {
       // Only the keypoints the flow alone condemns (outside the boxes) are checked.
       std::vector<std::size_t> which;

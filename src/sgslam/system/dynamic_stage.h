@@ -42,6 +42,11 @@ namespace sgslam {
 
 class Camera;
 
+struct TurnRates {
+  Eigen::Vector3d previous = Eigen::Vector3d::Zero();   // rad/s, the previous frame's
+  Eigen::Vector3d predicted = Eigen::Vector3d::Zero();  // rad/s, the motion model's for this frame
+};
+
 struct DynamicOutcome {
   std::vector<std::uint8_t> dynamic;  // per keypoint: 1 = rejected (never tracked nor mapped)
   std::vector<std::uint8_t> unjudged;  // per keypoint: 1 = kept without a geometric test (Why::kUnjudged)
@@ -55,6 +60,7 @@ struct DynamicOutcome {
   double detector_ms = 0;      // inference time of this frame's detections
   double wait_ms = 0;          // time tracking waited for them
   double reject_ms = 0;        // flow (before the wait) + F + RGB-D check + decision
+  std::optional<Eigen::Vector3d> angular_velocity;  // rad/s, this frame's, fitted to the pairs (rolling shutter)
 };
 
 class DynamicStage {
@@ -72,8 +78,11 @@ class DynamicStage {
   // Labels the keypoints (raw, distorted positions) of the frame just submitted.
   // depth_raw and T_cur_prev feed the optional RGB-D check (dynamic.depth_check);
   // without T_cur_prev the check is skipped for this frame.
+  // turn: the previous frame's angular velocity and the prediction of this one's
+  // (rad/s, camera frame), for a rolling-shutter camera (dynamic.rolling_shutter_pairs).
   DynamicOutcome Label(std::uint64_t frame_id, const cv::Mat& gray, const cv::Mat& depth_raw,
-                       const std::vector<cv::KeyPoint>& keys, const std::optional<SE3>& T_cur_prev);
+                       const std::vector<cv::KeyPoint>& keys, const std::optional<SE3>& T_cur_prev,
+                       const std::optional<TurnRates>& turn = std::nullopt);
 
   DetectionWorkerStats detector_stats() const;
 

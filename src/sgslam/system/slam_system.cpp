@@ -110,7 +110,11 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
   extractor_.Extract(gray, keys, descriptors);
   report.extract_ms = watch.ElapsedMs();
 
-  DynamicOutcome dyn = dynamic_.Label(frame_id, gray, images.depth, keys, tracker_.PredictedMotion());
+  std::optional<TurnRates> turn;
+  if (const auto previous = tracker_.LastAngularVelocity(); previous && camera_->config().readout > 0) {
+    turn = TurnRates{*previous, tracker_.PredictedAngularVelocity().value_or(*previous)};
+  }
+  DynamicOutcome dyn = dynamic_.Label(frame_id, gray, images.depth, keys, tracker_.PredictedMotion(), turn);
   if (!images.truth_mask.empty()) DynamicStage::ApplyTruthMask(images.truth_mask, keys, dyn);
   report.kept = dyn.judged ? dyn.kept : static_cast<int>(keys.size());
   report.rejected_geometry = dyn.rejected_geometry;

@@ -72,6 +72,12 @@ class Tracker {
     if (state_ != TrackState::kOk || !has_velocity_) return std::nullopt;
     return AngularVelocity(velocity_, velocity_dt_);
   }
+  // The angular velocity (rad/s) the last frame's keypoints were corrected with
+  // (fitted with its pose under a rolling shutter); none after a loss.
+  std::optional<Eigen::Vector3d> LastAngularVelocity() const {
+    if (state_ != TrackState::kOk || !last_frame_.features) return std::nullopt;
+    return last_frame_.features->angular_velocity;
+  }
 
  private:
   bool Initialize(Frame& frame, TrackResult& result);
