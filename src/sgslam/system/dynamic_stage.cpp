@@ -129,6 +129,34 @@ std::vector<bool> DynamicStage::ShowMotion(const std::vector<cv::KeyPoint>& keys
   return moving;
 }
 
+std::vector<std::uint8_t> DynamicStage::JudgeFirstAgain(const dynamic::FlowFrame& cur, const cv::Mat& depth_raw,
+                                                       const dynamic::WeightFn& weight) const {
+  // Algorithm 1 for the first frame's keypoints, with this frame as the other image:
+  // LK from them into this image, F and the RGB-D check on those pairs, eq. (4)
+  // with the first frame's boxes. Only the keypoints its boxes rejected can change.
+  std::vector<std::uint8_t> now_static(first_keys_.size(), 0);
+  if (first_keys_.empty() || first_rejected_.size() != first_keys_.size() || prev_depth_.empty()) return now_static;
+  dynamic::UndistortPointsFn undistort;
+  if (undistort_) undistort = [table = undistort_](std::vector<cv::Point2f>& p) { table->Apply(p); };
+  const dynamic::PairSet pairs = dynamic::TrackPairs(cur, prev_, first_keys_, config_.dynamic, undistort);
+  dynamic::DepthCheckInput depth;
+  depth.prev_depth = depth_raw;
+  depth.cur_depth = prev_depth_;
+  depth.depth_factor = config_.camera.depth_factor;
+  depth.K = {camera_->fx(), camera_->fy(), camera_->cx(), camera_->cy()};
+  std::vector<Detection> judged;
+  const double max_area = config_.dynamic.max_box_area * cur.gray.cols * cur.gray.rows;
+  for (const Detection& d : first_boxes_) {
+    if (d.box.area() <= max_area) judged.push_back(d);
+  }
+  const dynamic::RejectionResult r = dynamic::JudgePairs(pairs, first_keys_, judged, weight, config_.dynamic,
+                                                         config_.dynamic.depth_check ? &depth : nullptr);
+  for (std::size_t i = 0; i < first_keys_.size(); ++i) {
+    now_static[i] = first_rejected_[i] && r.keypoints[i].kept && r.keypoints[i].why == dynamic::Why::kStatic;
+  }
+  return now_static;
+}
+
 DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, const cv::Mat& depth_raw,
                                    const std::vector<cv::KeyPoint>& keys, const std::optional<SE3>& T_cur_prev,
                                    const std::optional<TurnRates>& turn) {
@@ -255,6 +283,9 @@ DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, 
       r.kept -= out.rejected_track;
       r.rejected_depth += out.rejected_track;
     }
+    if (boxes_only_ && dc.first_frame_rejudge && mode_ == dynamic::Mode::kSg) {
+      out.static_in_first = JudgeFirstAgain(cur, depth_raw, weight);
+    }
     out.unjudged.assign(keys.size(), 0);
     for (std::size_t i = 0; i < keys.size(); ++i) {
       out.dynamic[i] = r.keypoints[i].kept ? 0 : 1;
@@ -272,6 +303,14 @@ DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, 
     out.kept = static_cast<int>(keys.size());
   }
   out.reject_ms = flow_ms + watch.ElapsedMs();
+  boxes_only_ = first && mode_ == dynamic::Mode::kSg && worker_ != nullptr && config_.dynamic.first_frame_rejudge;
+  if (boxes_only_) {
+    first_keys_ = keys;
+    first_boxes_ = out.detections;
+    first_rejected_ = out.dynamic;
+  } else {
+    first_keys_.clear(), first_boxes_.clear(), first_rejected_.clear();
+  }
   prev_ = std::move(cur);
   prev_depth_ = depth_raw;
   return out;

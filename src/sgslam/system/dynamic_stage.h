@@ -15,7 +15,9 @@
 // the boxes of moving objects that showed motion are carried over the next frames
 // where the detector misses them (dynamic.carry_frames, box_carry.h). The
 // current LK pyramid is kept as the next frame's previous one, so each image's
-// pyramid is built once.
+// pyramid is built once. The first frame has no flow: in sg its boxes alone judge
+// it, and the next Label judges the keypoints they rejected again, with the new
+// frame as the other image (dynamic.first_frame_rejudge).
 //
 // Threading: all calls from the tracking thread; the detector runs on the
 // DetectionWorker's thread (or inside Submit in sequential mode).
@@ -61,6 +63,11 @@ struct DynamicOutcome {
   double wait_ms = 0;          // time tracking waited for them
   double reject_ms = 0;        // flow (before the wait) + F + RGB-D check + decision
   std::optional<Eigen::Vector3d> angular_velocity;  // rad/s, this frame's, fitted to the pairs (rolling shutter)
+  // The frame after the first (dynamic.first_frame_rejudge): per keypoint of the
+  // first frame, 1 where its boxes alone rejected it and Algorithm 1, run on it
+  // with this frame as the other image, keeps it (Tracker::ConfirmStaticInFirstKeyFrame);
+  // empty otherwise.
+  std::vector<std::uint8_t> static_in_first;
 };
 
 class DynamicStage {
@@ -69,6 +76,9 @@ class DynamicStage {
   DynamicStage(const Config& config, std::unique_ptr<Detector> detector, bool sequential);
 
   dynamic::Mode mode() const { return mode_; }
+  // The frame just labelled was judged by its boxes alone (the first frame in sg
+  // mode, no flow yet); the next Label gives static_in_first when configured.
+  bool boxes_only() const { return boxes_only_; }
   bool has_detector() const { return worker_ != nullptr; }
   std::string DescribeDetector() const;
 
@@ -96,6 +106,11 @@ class DynamicStage {
   int ApplyMultiFrameChecks(const std::vector<cv::KeyPoint>& keys, const std::vector<dynamic::TrackVerdict>& tracks,
                             dynamic::RejectionResult& r);
 
+  // dynamic.first_frame_rejudge: the first frame's box-rejected keypoints that
+  // Algorithm 1 keeps when judged with cur (this frame) as the other image.
+  std::vector<std::uint8_t> JudgeFirstAgain(const dynamic::FlowFrame& cur, const cv::Mat& depth_raw,
+                                            const dynamic::WeightFn& weight) const;
+
   // Per box, whether its keypoints show motion of their own (carry_min_motion).
   std::vector<bool> ShowMotion(const std::vector<cv::KeyPoint>& keys, const dynamic::RejectionResult& r,
                                const std::vector<Detection>& boxes) const;
@@ -108,6 +123,11 @@ class DynamicStage {
   ClassTable classes_;
   std::unique_ptr<DetectionWorker> worker_;
   dynamic::FlowFrame prev_;
+  bool boxes_only_ = false;  // prev_ was judged by its boxes alone (see boxes_only())
+  // That frame's keypoints, boxes and verdicts, for its second judgment.
+  std::vector<cv::KeyPoint> first_keys_;
+  std::vector<Detection> first_boxes_;
+  std::vector<std::uint8_t> first_rejected_;
   cv::Mat prev_depth_;
   dynamic::DynamicPrior prior_;  // config.dynamic.prior_cell: the previous frame's rejections
   dynamic::TrackMemory tracks_;  // config.dynamic.track_check

@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <opencv2/core/utility.hpp>
+#include <spdlog/spdlog.h>
 #include <opencv2/imgproc.hpp>
 #include <shared_mutex>
 
@@ -144,6 +145,11 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
   // A keyframe queued while its BA runs interrupts it (the mapper's interrupted()).
   const bool waited = frame.id >= last_keyframe_frame_id_ + static_cast<std::uint64_t>(config_.mapping.busy_frames);
   const bool idle = sequential_ ? waited : (queue_.size() == 0 && (!mapping_busy_ || waited));
+  if (!dyn.static_in_first.empty()) {
+    // The first keyframe was judged by its boxes alone; judged again with this frame.
+    const int cleared = tracker_.ConfirmStaticInFirstKeyFrame(dyn.static_in_first);
+    if (cleared > 0) spdlog::info("first keyframe: {} keypoints its boxes rejected are static, judged with the next frame", cleared);
+  }
   const TrackResult result = tracker_.Track(frame, idle, sequential_ ? 0 : queue_.size());
   report.state = result.state;
   report.matches = result.matches;
@@ -170,7 +176,9 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
     report.keyframe = true;
     last_keyframe_frame_id_ = frame.id;
     SemanticInput item{result.new_keyframe, images.bgr, images.depth};
-    if (tracker_.KeyFramesWait()) {
+    // A keyframe judged by its boxes alone stays with tracking for one more frame
+    // too (Tracker::ConfirmStaticInFirstKeyFrame).
+    if (tracker_.KeyFramesWait() || (dynamic_.boxes_only() && config_.dynamic.first_frame_rejudge)) {
       waiting_ = std::move(item);
     } else {
       HandOver(std::move(item));

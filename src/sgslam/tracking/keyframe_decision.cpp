@@ -1,10 +1,12 @@
 // The keyframe decision and keyframe creation of the tracker (ORB-SLAM2's
 // NeedNewKeyFrame / CreateNewKeyFrame for RGB-D).
 #include <algorithm>
+#include <cstdint>
 #include <mutex>
 #include <shared_mutex>
 
 #include "sgslam/tracking/tracker.h"
+#include "sgslam/tracking/trusted_pose.h"
 
 namespace sgslam {
 
@@ -86,6 +88,29 @@ int Tracker::AddDepthPoints(Frame& frame, const std::shared_ptr<KeyFrame>& kf, b
     ++created;
   }
   return created;
+}
+
+int Tracker::ConfirmStaticInFirstKeyFrame(const std::vector<std::uint8_t>& now_static) {
+  if (state_ != TrackState::kOk || !reference_kf_ || !last_frame_.features) return 0;
+  const std::shared_ptr<KeyFrame> kf = reference_kf_;
+  if (map_.keyframes().size() != 1 || kf->frame_id != last_frame_.id) return 0;
+  const Features& f = *kf->features;
+  if (f.dynamic.size() != f.size() || now_static.size() != f.size()) return 0;
+  std::vector<std::uint8_t> dynamic = f.dynamic;
+  int cleared = 0;
+  for (std::size_t i = 0; i < f.size(); ++i) {
+    if (dynamic[i] && now_static[i] && f.depth[i] > 0) dynamic[i] = 0, ++cleared;
+  }
+  if (cleared == 0) return 0;
+  auto relabelled = std::make_shared<Features>(f);
+  relabelled->dynamic = std::move(dynamic);
+  std::unique_lock lock(map_.mutex());
+  kf->ReplaceFeatures(relabelled);
+  last_frame_.features = relabelled;
+  last_frame_.rejected = relabelled->dynamic;
+  AddDepthPoints(last_frame_, kf, /*all=*/true);
+  TrustAll(kf->map_points());  // the first keyframe's points are trusted (trusted_pose.h)
+  return cleared;
 }
 
 }  // namespace sgslam

@@ -214,7 +214,8 @@ bool Tracker::Initialize(Frame& frame, TrackResult& result) {
   // frames lost): wait for a frame that keeps at least half of min_init_points,
   // but not forever (a scene that stays covered by movers must still start).
   // Half: on fr1_rpy the first frame keeps ~400 of its 1000 keypoints under a
-  // false "person" box and starts well from them.
+  // false "person" box; the next frame's flow judges the other 600 again
+  // (ConfirmStaticInFirstKeyFrame) and brings back the static ones.
   int usable = 0;
   for (std::size_t i = 0; i < depth.size(); ++i) usable += depth[i] > 0 && frame.usable(i);
   if (2 * usable < needed && init_deferred_ < kMaxInitDeferrals) {

@@ -59,6 +59,15 @@ class Tracker {
   // this is true.
   bool KeyFramesWait() const;
 
+  // The map's first keyframe, when its keypoints were judged by their detection
+  // boxes alone (the first frame has no flow): keypoints with depth that
+  // now_static marks (one flag per keypoint, from DynamicStage's second judgment)
+  // are kept after all and become trusted map points. Call after the next frame is
+  // labelled and before it is tracked, while the keyframe has not gone to local
+  // mapping. Returns the keypoints cleared; 0 when the map has moved on from its
+  // first keyframe.
+  int ConfirmStaticInFirstKeyFrame(const std::vector<std::uint8_t>& now_static);
+
   TrackState state() const { return state_; }
   // The constant-velocity prediction of the next frame's motion, T_next_last
   // (what the motion model will assume); none after a loss or before two poses.
