@@ -6,9 +6,9 @@
 #include <unistd.h>
 
 #include <opencv2/core/utility.hpp>
-#include <spdlog/spdlog.h>
 #include <opencv2/imgproc.hpp>
 #include <shared_mutex>
+#include <spdlog/spdlog.h>
 
 #include "sgslam/common/stats.h"
 #include "sgslam/map/map_check.h"
@@ -148,7 +148,9 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
   if (!dyn.static_in_first.empty()) {
     // The first keyframe was judged by its boxes alone; judged again with this frame.
     const int cleared = tracker_.ConfirmStaticInFirstKeyFrame(dyn.static_in_first);
-    if (cleared > 0) spdlog::info("first keyframe: {} keypoints its boxes rejected are static, judged with the next frame", cleared);
+    if (cleared > 0) {
+      spdlog::info("first keyframe: {} keypoints its boxes rejected are static, judged with the next frame", cleared);
+    }
   }
   const TrackResult result = tracker_.Track(frame, idle, sequential_ ? 0 : queue_.size());
   report.state = result.state;

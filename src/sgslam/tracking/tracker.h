@@ -62,7 +62,7 @@ class Tracker {
   // The map's first keyframe, when its keypoints were judged by their detection
   // boxes alone (the first frame has no flow): keypoints with depth that
   // now_static marks (one flag per keypoint, from DynamicStage's second judgment)
-  // are kept after all and become trusted map points. Call after the next frame is
+  // are kept after all and become trusted map points, like the keyframe's others. Call after the next frame is
   // labelled and before it is tracked, while the keyframe has not gone to local
   // mapping. Returns the keypoints cleared; 0 when the map has moved on from its
   // first keyframe.
