@@ -133,9 +133,9 @@ std::vector<std::uint8_t> DynamicStage::JudgeFirstAgain(const dynamic::FlowFrame
                                                        const dynamic::WeightFn& weight) const {
   // Algorithm 1 for the first frame's keypoints, with this frame as the other image:
   // LK from them into this image, F and the RGB-D check on those pairs, eq. (4)
-  // with the first frame's boxes. Only the keypoints its boxes rejected can change.
+  // with the boxes the first frame was judged by.
   std::vector<std::uint8_t> now_static(first_keys_.size(), 0);
-  if (first_keys_.empty() || first_rejected_.size() != first_keys_.size() || prev_depth_.empty()) return now_static;
+  if (first_keys_.empty() || prev_depth_.empty()) return now_static;
   dynamic::UndistortPointsFn undistort;
   if (undistort_) undistort = [table = undistort_](std::vector<cv::Point2f>& p) { table->Apply(p); };
   const dynamic::PairSet pairs = dynamic::TrackPairs(cur, prev_, first_keys_, config_.dynamic, undistort);
@@ -144,15 +144,10 @@ std::vector<std::uint8_t> DynamicStage::JudgeFirstAgain(const dynamic::FlowFrame
   depth.cur_depth = prev_depth_;
   depth.depth_factor = config_.camera.depth_factor;
   depth.K = {camera_->fx(), camera_->fy(), camera_->cx(), camera_->cy()};
-  std::vector<Detection> judged;
-  const double max_area = config_.dynamic.max_box_area * cur.gray.cols * cur.gray.rows;
-  for (const Detection& d : first_boxes_) {
-    if (d.box.area() <= max_area) judged.push_back(d);
-  }
-  const dynamic::RejectionResult r = dynamic::JudgePairs(pairs, first_keys_, judged, weight, config_.dynamic,
+  const dynamic::RejectionResult r = dynamic::JudgePairs(pairs, first_keys_, first_boxes_, weight, config_.dynamic,
                                                          config_.dynamic.depth_check ? &depth : nullptr);
   for (std::size_t i = 0; i < first_keys_.size(); ++i) {
-    now_static[i] = first_rejected_[i] && r.keypoints[i].kept && r.keypoints[i].why == dynamic::Why::kStatic;
+    now_static[i] = r.keypoints[i].kept && r.keypoints[i].why == dynamic::Why::kStatic;
   }
   return now_static;
 }
@@ -244,6 +239,7 @@ DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, 
     for (const Detection& d : out.detections) {
       if (d.box.area() <= max_area) judged.push_back(d);
     }
+    if (first) first_boxes_ = judged;  // for JudgeFirstAgain (kept only when boxes_only_)
     std::optional<dynamic::RollingShutterInput> rolling;
     if (turn && config_.camera.readout > 0 && !first) {
       rolling.emplace();
@@ -306,10 +302,8 @@ DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, 
   boxes_only_ = first && mode_ == dynamic::Mode::kSg && worker_ != nullptr && config_.dynamic.first_frame_rejudge;
   if (boxes_only_) {
     first_keys_ = keys;
-    first_boxes_ = out.detections;
-    first_rejected_ = out.dynamic;
   } else {
-    first_keys_.clear(), first_boxes_.clear(), first_rejected_.clear();
+    first_keys_.clear(), first_boxes_.clear();
   }
   prev_ = std::move(cur);
   prev_depth_ = depth_raw;

@@ -64,9 +64,9 @@ struct DynamicOutcome {
   double reject_ms = 0;        // flow (before the wait) + F + RGB-D check + decision
   std::optional<Eigen::Vector3d> angular_velocity;  // rad/s, this frame's, fitted to the pairs (rolling shutter)
   // The frame after the first (dynamic.first_frame_rejudge): per keypoint of the
-  // first frame, 1 where its boxes alone rejected it and Algorithm 1, run on it
-  // with this frame as the other image, keeps it (Tracker::ConfirmStaticInFirstKeyFrame);
-  // empty otherwise.
+  // first frame, 1 where Algorithm 1, run on it with this frame as the other image,
+  // judges it static (Tracker::ConfirmStaticInFirstKeyFrame clears those its boxes
+  // rejected); empty otherwise.
   std::vector<std::uint8_t> static_in_first;
 };
 
@@ -77,7 +77,8 @@ class DynamicStage {
 
   dynamic::Mode mode() const { return mode_; }
   // The frame just labelled was judged by its boxes alone (the first frame in sg
-  // mode, no flow yet); the next Label gives static_in_first when configured.
+  // mode, no flow yet) and will be judged again (dynamic.first_frame_rejudge): the
+  // next Label gives static_in_first.
   bool boxes_only() const { return boxes_only_; }
   bool has_detector() const { return worker_ != nullptr; }
   std::string DescribeDetector() const;
@@ -106,8 +107,8 @@ class DynamicStage {
   int ApplyMultiFrameChecks(const std::vector<cv::KeyPoint>& keys, const std::vector<dynamic::TrackVerdict>& tracks,
                             dynamic::RejectionResult& r);
 
-  // dynamic.first_frame_rejudge: the first frame's box-rejected keypoints that
-  // Algorithm 1 keeps when judged with cur (this frame) as the other image.
+  // dynamic.first_frame_rejudge: the first frame's keypoints that Algorithm 1
+  // judges static with cur (this frame) as the other image.
   std::vector<std::uint8_t> JudgeFirstAgain(const dynamic::FlowFrame& cur, const cv::Mat& depth_raw,
                                             const dynamic::WeightFn& weight) const;
 
@@ -124,10 +125,9 @@ class DynamicStage {
   std::unique_ptr<DetectionWorker> worker_;
   dynamic::FlowFrame prev_;
   bool boxes_only_ = false;  // prev_ was judged by its boxes alone (see boxes_only())
-  // That frame's keypoints, boxes and verdicts, for its second judgment.
+  // That frame's keypoints and the boxes it was judged by, for its second judgment.
   std::vector<cv::KeyPoint> first_keys_;
   std::vector<Detection> first_boxes_;
-  std::vector<std::uint8_t> first_rejected_;
   cv::Mat prev_depth_;
   dynamic::DynamicPrior prior_;  // config.dynamic.prior_cell: the previous frame's rejections
   dynamic::TrackMemory tracks_;  // config.dynamic.track_check

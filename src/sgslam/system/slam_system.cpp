@@ -180,7 +180,7 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
     SemanticInput item{result.new_keyframe, images.bgr, images.depth};
     // A keyframe judged by its boxes alone stays with tracking for one more frame
     // too (Tracker::ConfirmStaticInFirstKeyFrame).
-    if (tracker_.KeyFramesWait() || (dynamic_.boxes_only() && config_.dynamic.first_frame_rejudge)) {
+    if (tracker_.KeyFramesWait() || dynamic_.boxes_only()) {
       waiting_ = std::move(item);
     } else {
       HandOver(std::move(item));

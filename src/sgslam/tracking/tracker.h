@@ -60,12 +60,12 @@ class Tracker {
   bool KeyFramesWait() const;
 
   // The map's first keyframe, when its keypoints were judged by their detection
-  // boxes alone (the first frame has no flow): keypoints with depth that
+  // boxes alone (the first frame has no flow): rejected keypoints with depth that
   // now_static marks (one flag per keypoint, from DynamicStage's second judgment)
-  // are kept after all and become trusted map points, like the keyframe's others. Call after the next frame is
-  // labelled and before it is tracked, while the keyframe has not gone to local
-  // mapping. Returns the keypoints cleared; 0 when the map has moved on from its
-  // first keyframe.
+  // are kept after all and become trusted map points, like the keyframe's others.
+  // Call after the next frame is labelled and before it is tracked, while the
+  // keyframe has not gone to local mapping. Returns the keypoints cleared; 0 when
+  // the map has moved on from its first keyframe.
   int ConfirmStaticInFirstKeyFrame(const std::vector<std::uint8_t>& now_static);
 
   TrackState state() const { return state_; }
@@ -120,9 +120,10 @@ class Tracker {
   SE3 last_T_c_r_;  // last frame's pose relative to its reference keyframe
   std::uint64_t last_keyframe_frame_id_ = 0;
   double th_depth_ = 0;  // m, the close/far limit of depth points
-  // A tracked frame (id, time, pose), for the central difference. Kept relative to its reference keyframe, as last_frame_ is: local BA may move
-  // the map before the next frame, and a central difference across two versions
-  // of the map would measure the move as a turn.
+  // A tracked frame (id, time, pose), for the central difference. Kept relative to
+  // its reference keyframe, as last_frame_ is: local BA may move the map before the
+  // next frame, and a central difference across two versions of the map would
+  // measure the move as a turn.
   struct Before {
     std::uint64_t id = 0;
     Timestamp t = 0;
