@@ -114,6 +114,8 @@ TEST(RollingPairs, FitsTheCurrentVelocityAndStraightensThePairs) {
   ASSERT_TRUE(fit.fitted);
   EXPECT_LT((fit.w_cur - s.w_cur).norm(), 0.05) << fit.w_cur.transpose();
   EXPECT_GT(fit.inliers, 350);
+  EXPECT_EQ(fit.pairs, 460) << "every pair has a previous depth";
+  EXPECT_LE(fit.inliers, fit.pairs);
   // The pairs are now where the middle-row cameras see the points.
   double worst_prev = 0, worst_cur = 0;
   for (std::size_t i = 0; i < s.moving.size(); ++i) {

@@ -240,7 +240,7 @@ RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>
     std::optional<DepthCheckInput> with_motion;
     const DepthCheckInput* in = depth;
     if (config.depth_motion == "pnp" && rolling_fit && rolling_fit->fitted) {
-      r.motion = MotionEstimate{rolling_fit->T_cur_prev, rolling_fit->inliers, rolling_fit->inliers};
+      r.motion = MotionEstimate{rolling_fit->T_cur_prev, rolling_fit->pairs, rolling_fit->inliers};
       with_motion = *depth;
       with_motion->T_cur_prev = r.motion->T_cur_prev;
       in = &*with_motion;

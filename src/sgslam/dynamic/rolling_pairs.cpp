@@ -62,6 +62,7 @@ RollingShutterFit CorrectPairsForRollingShutter(PairSet& pairs, const std::vecto
     row_time.push_back(RowTimeOffset(pairs.cur[i].y, in.height, in.readout));
     index.push_back(i);
   }
+  fit.pairs = static_cast<int>(object.size());
   const auto T = SolvePnPMotion(object, image, in.K, config.motion_iterations, config.motion_threshold,
                                 config.motion_min_inliers);
   if (!T) return fit;

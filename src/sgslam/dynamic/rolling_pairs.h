@@ -43,6 +43,7 @@ struct RollingShutterInput {
 struct RollingShutterFit {
   Eigen::Vector3d w_cur = Eigen::Vector3d::Zero();  // rad/s, the current frame's velocity used
   bool fitted = false;                              // false: w_guess was used (too few pairs)
+  int pairs = 0;                                    // pairs with a previous depth, offered to the fit
   int inliers = 0;                                  // pairs the fit ran on
   SE3 T_cur_prev;  // the fitted motion between the middle-row cameras (valid when fitted)
 };

@@ -241,7 +241,7 @@ DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, 
     }
     if (first) first_boxes_ = judged;  // for JudgeFirstAgain (kept only when boxes_only_)
     std::optional<dynamic::RollingShutterInput> rolling;
-    if (turn && config_.camera.readout > 0 && !first) {
+    if (turn && config_.dynamic.rolling_shutter_pairs && config_.camera.readout > 0 && !first) {
       rolling.emplace();
       rolling->readout = config_.camera.readout;
       rolling->height = gray.rows;

@@ -112,7 +112,8 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
   report.extract_ms = watch.ElapsedMs();
 
   std::optional<TurnRates> turn;
-  if (const auto previous = tracker_.LastAngularVelocity(); previous && camera_->config().readout > 0) {
+  if (const auto previous = tracker_.LastAngularVelocity();
+      previous && config_.dynamic.rolling_shutter_pairs && camera_->config().readout > 0) {
     turn = TurnRates{*previous, tracker_.PredictedAngularVelocity().value_or(*previous)};
   }
   DynamicOutcome dyn = dynamic_.Label(frame_id, gray, images.depth, keys, tracker_.PredictedMotion(), turn);
