@@ -93,6 +93,7 @@ int Tracker::AddDepthPoints(Frame& frame, const std::shared_ptr<KeyFrame>& kf, b
 int Tracker::ConfirmStaticInFirstKeyFrame(const std::vector<std::uint8_t>& now_static) {
   if (state_ != TrackState::kOk || !reference_kf_ || !last_frame_.features) return 0;
   const std::shared_ptr<KeyFrame> kf = reference_kf_;
+  std::unique_lock lock(map_.mutex());  // the keyframe list, then the keyframe's features and points
   if (map_.keyframes().size() != 1 || kf->frame_id != last_frame_.id) return 0;
   const Features& f = *kf->features;
   if (f.dynamic.size() != f.size() || now_static.size() != f.size()) return 0;
@@ -104,7 +105,6 @@ int Tracker::ConfirmStaticInFirstKeyFrame(const std::vector<std::uint8_t>& now_s
   if (cleared == 0) return 0;
   auto relabelled = std::make_shared<Features>(f);
   relabelled->dynamic = std::move(dynamic);
-  std::unique_lock lock(map_.mutex());
   kf->ReplaceFeatures(relabelled);
   last_frame_.features = relabelled;
   last_frame_.rejected = relabelled->dynamic;
