@@ -58,6 +58,7 @@ void TrackingConfig::Validate(ConfigChecker& c) const {
   c.InRange("trust_delay", trust_delay, 0.0, 60.0);
   c.InRange("trust_hits", trust_hits, 1, 1000);
   c.InRange("trust_min_points", trust_min_points, 3, 100000);
+  c.InRange("rejected_match_distance", rejected_match_distance, 0, 256);
   c.InRange("rolling_shutter_prior", rolling_shutter_prior, 1e-3, 100.0);
 }
 

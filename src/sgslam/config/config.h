@@ -134,6 +134,18 @@ struct TrackingConfig {
   double trust_delay = 0.3;  // s
   int trust_hits = 2;        // late inlier matches that make a point trusted
   int trust_min_points = 20;  // trusted matches a frame needs to be fitted to them first; fewer: all matches
+  // A keypoint that dynamic rejection condemned may still match a trusted map point
+  // (one that has stayed put in the map) that no kept keypoint matched, in the
+  // projection searches, when their descriptors differ by at most this many bits;
+  // the match then counts like any other. The two-frame tests condemn static
+  // keypoints whose LK flow went wrong in blur (most of fr1_rpy's 10 %); a point
+  // that matched where the map put it for trust_delay is static. Rejected keypoints
+  // still never make map points. 0: rejected keypoints are never matched (the paper).
+  // Ten-budget panels, sequential, fr1_rpy sg / dyn_dev sg: 0 -> 0.0094 / 0.0159 m;
+  // 50 -> 0.0091 / 0.0159; 65 -> 0.0092 / 0.0160; 80 -> 0.0086 / 0.0171; 100 (every
+  // match) -> 0.0089 / 0.0176: loose matches let movers' keypoints in. README
+  // "Rejected keypoints matched to trusted points".
+  int rejected_match_distance = 50;
   // With a rolling-shutter camera (camera.readout > 0), keypoints are first
   // corrected with the predicted angular velocity; this fits the frame's angular
   // velocity together with its pose, corrects them again and fits the pose once more.
@@ -177,6 +189,7 @@ struct TrackingConfig {
     v("trust_delay", trust_delay, "s, age at which a map point's inlier matches start to earn it trust; 0: off");
     v("trust_hits", trust_hits, "late inlier matches that make a map point trusted");
     v("trust_min_points", trust_min_points, "trusted matches needed to fit a frame's pose to them first");
+    v("rejected_match_distance", rejected_match_distance, "bits; rejected keypoints may match trusted map points no kept keypoint matched within it; 0: never");
     v("rolling_shutter_refine", rolling_shutter_refine, "fit the frame's angular velocity with its pose and correct the keypoints again");
     v("rolling_shutter_prior", rolling_shutter_prior, "rad/s, sigma of the fitted angular velocity around the predicted one");
     v("keyframe_velocity_central", keyframe_velocity_central, "correct a keyframe one frame later with the velocity of the frames around it");

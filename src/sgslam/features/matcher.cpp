@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 
 #include "sgslam/features/hamming.h"
 
@@ -79,33 +80,39 @@ int SearchByProjection(Frame& current, const Frame& last, double radius_px) {
 
   std::vector<float> diffs;
   std::vector<std::size_t> matched;
+  std::vector<std::uint8_t> found(last.map_points.size(), 0);
   int n = 0;
-  for (std::size_t i = 0; i < last.map_points.size(); ++i) {
-    const auto& p = last.map_points[i];
-    if (!p || last.outlier[i] || p->bad()) continue;
-    const Eigen::Vector3d p_c = current.T_c_w * p->position();
-    if (p_c.z() <= 0) continue;
-    const Eigen::Vector2d uv = cam.Project(p_c);
-    if (!cf.bounds.Contains(uv.x(), uv.y())) continue;
-    const int last_level = lf.keys_un[i].octave;
-    // Moving forward, the point looks bigger: search at finer-or-equal scale
-    // levels above the last one, and conversely (ORB-SLAM2).
-    const double r = radius_px * cf.scale->scale[static_cast<std::size_t>(last_level)];
-    const auto candidates = forward    ? cf.InArea(uv.x(), uv.y(), r, last_level)
-                            : backward ? cf.InArea(uv.x(), uv.y(), r, 0, last_level)
-                                       : cf.InArea(uv.x(), uv.y(), r, last_level - 1, last_level + 1);
-    const double ur = uv.x() - cam.baseline_fx() / p_c.z();
-    Best best;
-    for (std::size_t j : candidates) {
-      if (current.map_points[j] || current.rejected[j]) continue;
-      if (cf.u_right[j] > 0 && std::abs(ur - cf.u_right[j]) > r) continue;
-      best.Offer(features::HammingDistance(p->descriptor(), cf.descriptor(j)), j, cf.keys_un[j].octave);
+  for (const bool rejected_pass : {false, true}) {
+    if (rejected_pass && current.rejected_match_distance <= 0) break;
+    for (std::size_t i = 0; i < last.map_points.size(); ++i) {
+      const auto& p = last.map_points[i];
+      if (!p || last.outlier[i] || p->bad() || found[i]) continue;
+      if (rejected_pass && !p->track.trusted) continue;
+      const Eigen::Vector3d p_c = current.T_c_w * p->position();
+      if (p_c.z() <= 0) continue;
+      const Eigen::Vector2d uv = cam.Project(p_c);
+      if (!cf.bounds.Contains(uv.x(), uv.y())) continue;
+      const int last_level = lf.keys_un[i].octave;
+      // Moving forward, the point looks bigger: search at finer-or-equal scale
+      // levels above the last one, and conversely (ORB-SLAM2).
+      const double r = radius_px * cf.scale->scale[static_cast<std::size_t>(last_level)];
+      const auto candidates = forward    ? cf.InArea(uv.x(), uv.y(), r, last_level)
+                              : backward ? cf.InArea(uv.x(), uv.y(), r, 0, last_level)
+                                         : cf.InArea(uv.x(), uv.y(), r, last_level - 1, last_level + 1);
+      const double ur = uv.x() - cam.baseline_fx() / p_c.z();
+      Best best;
+      for (std::size_t j : candidates) {
+        if (current.map_points[j] || (current.rejected[j] != 0) != rejected_pass) continue;
+        if (cf.u_right[j] > 0 && std::abs(ur - cf.u_right[j]) > r) continue;
+        best.Offer(features::HammingDistance(p->descriptor(), cf.descriptor(j)), j, cf.keys_un[j].octave);
+      }
+      if (best.dist > (rejected_pass ? current.rejected_match_distance : kThHigh)) continue;
+      current.map_points[best.index] = p;
+      found[i] = 1;
+      diffs.push_back(lf.keys[i].angle - cf.keys[best.index].angle);
+      matched.push_back(best.index);
+      ++n;
     }
-    if (best.dist > kThHigh) continue;
-    current.map_points[best.index] = p;
-    diffs.push_back(lf.keys[i].angle - cf.keys[best.index].angle);
-    matched.push_back(best.index);
-    ++n;
   }
   for (std::size_t k : RotationOutliers(diffs)) {
     current.map_points[matched[k]].reset();
@@ -116,23 +123,30 @@ int SearchByProjection(Frame& current, const Frame& last, double radius_px) {
 
 int SearchLocalPoints(Frame& current, const std::vector<std::shared_ptr<MapPoint>>& points, double th) {
   const Features& cf = *current.features;
+  std::vector<std::uint8_t> found(points.size(), 0);
   int n = 0;
-  for (const auto& p : points) {
-    if (!p->track.in_view || p->bad() || p->track.last_frame_seen == current.id) continue;
-    const int level = p->track.predicted_level;
-    const double r = th * RadiusByViewingCos(p->track.view_cos) * cf.scale->scale[static_cast<std::size_t>(level)];
-    Best best;
-    for (std::size_t j : cf.InArea(p->track.u, p->track.v, r, level - 1, level)) {
-      if (current.rejected[j]) continue;
-      if (const auto& q = current.map_points[j]; q && q->num_observations() > 0) continue;
-      if (cf.u_right[j] > 0 && std::abs(p->track.u_right - cf.u_right[j]) > r) continue;
-      best.Offer(features::HammingDistance(p->descriptor(), cf.descriptor(j)), j, cf.keys_un[j].octave);
+  for (const bool rejected_pass : {false, true}) {
+    if (rejected_pass && current.rejected_match_distance <= 0) break;
+    for (std::size_t k = 0; k < points.size(); ++k) {
+      const auto& p = points[k];
+      if (!p->track.in_view || p->bad() || p->track.last_frame_seen == current.id || found[k]) continue;
+      if (rejected_pass && !p->track.trusted) continue;
+      const int level = p->track.predicted_level;
+      const double r = th * RadiusByViewingCos(p->track.view_cos) * cf.scale->scale[static_cast<std::size_t>(level)];
+      Best best;
+      for (std::size_t j : cf.InArea(p->track.u, p->track.v, r, level - 1, level)) {
+        if ((current.rejected[j] != 0) != rejected_pass) continue;
+        if (const auto& q = current.map_points[j]; q && q->num_observations() > 0) continue;
+        if (cf.u_right[j] > 0 && std::abs(p->track.u_right - cf.u_right[j]) > r) continue;
+        best.Offer(features::HammingDistance(p->descriptor(), cf.descriptor(j)), j, cf.keys_un[j].octave);
+      }
+      if (best.dist > (rejected_pass ? current.rejected_match_distance : kThHigh)) continue;
+      // Ambiguous at the same level: the best must clearly beat the second.
+      if (best.level == best.second_level && best.dist > 0.8 * best.second) continue;
+      current.map_points[best.index] = p;
+      found[k] = 1;
+      ++n;
     }
-    if (best.dist > kThHigh) continue;
-    // Ambiguous at the same level: the best must clearly beat the second.
-    if (best.level == best.second_level && best.dist > 0.8 * best.second) continue;
-    current.map_points[best.index] = p;
-    ++n;
   }
   return n;
 }

@@ -21,6 +21,11 @@ namespace sgslam::matcher {
 constexpr int kThHigh = 100;  // accept a match up to this distance
 constexpr int kThLow = 50;    // ... where a stricter test is needed
 
+// Rejected keypoints (Frame::rejected) are matched by the two projection searches
+// only when Frame::rejected_match_distance > 0, in a second pass: to the trusted map
+// points (MapPoint::track, tracking thread) that no kept keypoint matched, within
+// that descriptor distance.
+
 // Constant-velocity tracking: projects the last frame's matched points with the
 // current pose estimate and searches within radius_px * scale of their level.
 int SearchByProjection(Frame& current, const Frame& last, double radius_px);

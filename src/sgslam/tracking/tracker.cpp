@@ -51,6 +51,7 @@ Tracker::Tracker(const Config& config, Map& map)
 
 TrackResult Tracker::Track(Frame& frame, bool mapping_idle, std::size_t mapping_queue) {
   TrackResult result;
+  frame.rejected_match_distance = config_.tracking.rejected_match_distance;
   if (state_ == TrackState::kNotInitialized) {
     if (Initialize(frame, result)) {
       state_ = TrackState::kOk;
