@@ -72,11 +72,7 @@ class RejectedMatching : public ::testing::Test {
     }
   }
 
-  Frame MakeFrame(bool option) const {
-    Frame f(1, 1, features_, cv::Mat());
-    f.rejected_match_distance = option ? 50 : 0;
-    return f;
-  }
+  Frame MakeFrame() const { return Frame(1, 1, features_, cv::Mat()); }
 
   // Local-map search: the points carry their projections as Frame::IsInFrustum would.
   std::vector<std::shared_ptr<MapPoint>> Predicted() const {
@@ -108,12 +104,12 @@ class RejectedMatching : public ::testing::Test {
 };
 
 TEST_F(RejectedMatching, LocalMapSearch) {
-  Frame off = MakeFrame(false);
-  EXPECT_EQ(matcher::SearchLocalPoints(off, Predicted(), 3.0), 2);
+  Frame off = MakeFrame();
+  EXPECT_EQ(matcher::SearchLocalPoints(off, Predicted(), 3.0, 0), 2);
   EXPECT_EQ(Matched(off), (std::vector<int>{0, -1, -1, -1, 4, -1}));
 
-  Frame on = MakeFrame(true);
-  EXPECT_EQ(matcher::SearchLocalPoints(on, Predicted(), 3.0), 3);
+  Frame on = MakeFrame();
+  EXPECT_EQ(matcher::SearchLocalPoints(on, Predicted(), 3.0, 50), 3);
   EXPECT_EQ(Matched(on), (std::vector<int>{0, 1, -1, -1, 4, -1}));
 }
 
@@ -122,8 +118,8 @@ TEST_F(RejectedMatching, MotionModelSearch) {
   Frame last(0, 0, keyframe_->features, cv::Mat());
   for (std::size_t i = 0; i < points_.size(); ++i) last.map_points[i] = points_[i];
   for (const bool option : {false, true}) {
-    Frame cur = MakeFrame(option);
-    const int n = matcher::SearchByProjection(cur, last, 7.5);
+    Frame cur = MakeFrame();
+    const int n = matcher::SearchByProjection(cur, last, 7.5, option ? 50 : 0);
     if (option) {
       EXPECT_EQ(n, 3);
       EXPECT_EQ(Matched(cur), (std::vector<int>{0, 1, -1, -1, 4, -1}));

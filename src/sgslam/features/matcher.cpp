@@ -15,6 +15,12 @@ constexpr int kHistLength = 30;
 
 double RadiusByViewingCos(double view_cos) { return view_cos > 0.998 ? 2.5 : 4.0; }
 
+// The rejected-keypoint pass of the projection searches: on, and something to match.
+bool SecondPass(const Frame& current, int rejected_distance) {
+  return rejected_distance > 0 &&
+         std::any_of(current.rejected.begin(), current.rejected.end(), [](std::uint8_t r) { return r != 0; });
+}
+
 struct Best {
   int dist = 256, second = 256, level = -1, second_level = -1;
   std::size_t index = SIZE_MAX;
@@ -70,7 +76,7 @@ std::vector<std::size_t> RotationOutliers(const std::vector<float>& angle_diffs)
   return drop;
 }
 
-int SearchByProjection(Frame& current, const Frame& last, double radius_px) {
+int SearchByProjection(Frame& current, const Frame& last, double radius_px, int rejected_distance) {
   const Features& cf = *current.features;
   const Features& lf = *last.features;
   const Camera& cam = *cf.camera;
@@ -83,7 +89,7 @@ int SearchByProjection(Frame& current, const Frame& last, double radius_px) {
   std::vector<std::uint8_t> found(last.map_points.size(), 0);
   int n = 0;
   for (const bool rejected_pass : {false, true}) {
-    if (rejected_pass && current.rejected_match_distance <= 0) break;
+    if (rejected_pass && !SecondPass(current, rejected_distance)) break;
     for (std::size_t i = 0; i < last.map_points.size(); ++i) {
       const auto& p = last.map_points[i];
       if (!p || last.outlier[i] || p->bad() || found[i]) continue;
@@ -106,7 +112,7 @@ int SearchByProjection(Frame& current, const Frame& last, double radius_px) {
         if (cf.u_right[j] > 0 && std::abs(ur - cf.u_right[j]) > r) continue;
         best.Offer(features::HammingDistance(p->descriptor(), cf.descriptor(j)), j, cf.keys_un[j].octave);
       }
-      if (best.dist > (rejected_pass ? current.rejected_match_distance : kThHigh)) continue;
+      if (best.dist > (rejected_pass ? rejected_distance : kThHigh)) continue;
       current.map_points[best.index] = p;
       found[i] = 1;
       diffs.push_back(lf.keys[i].angle - cf.keys[best.index].angle);
@@ -121,12 +127,13 @@ int SearchByProjection(Frame& current, const Frame& last, double radius_px) {
   return n;
 }
 
-int SearchLocalPoints(Frame& current, const std::vector<std::shared_ptr<MapPoint>>& points, double th) {
+int SearchLocalPoints(Frame& current, const std::vector<std::shared_ptr<MapPoint>>& points, double th,
+                      int rejected_distance) {
   const Features& cf = *current.features;
   std::vector<std::uint8_t> found(points.size(), 0);
   int n = 0;
   for (const bool rejected_pass : {false, true}) {
-    if (rejected_pass && current.rejected_match_distance <= 0) break;
+    if (rejected_pass && !SecondPass(current, rejected_distance)) break;
     for (std::size_t k = 0; k < points.size(); ++k) {
       const auto& p = points[k];
       if (!p->track.in_view || p->bad() || p->track.last_frame_seen == current.id || found[k]) continue;
@@ -140,7 +147,7 @@ int SearchLocalPoints(Frame& current, const std::vector<std::shared_ptr<MapPoint
         if (cf.u_right[j] > 0 && std::abs(p->track.u_right - cf.u_right[j]) > r) continue;
         best.Offer(features::HammingDistance(p->descriptor(), cf.descriptor(j)), j, cf.keys_un[j].octave);
       }
-      if (best.dist > (rejected_pass ? current.rejected_match_distance : kThHigh)) continue;
+      if (best.dist > (rejected_pass ? rejected_distance : kThHigh)) continue;
       // Ambiguous at the same level: the best must clearly beat the second.
       if (best.level == best.second_level && best.dist > 0.8 * best.second) continue;
       current.map_points[best.index] = p;

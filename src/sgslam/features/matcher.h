@@ -22,17 +22,18 @@ constexpr int kThHigh = 100;  // accept a match up to this distance
 constexpr int kThLow = 50;    // ... where a stricter test is needed
 
 // Rejected keypoints (Frame::rejected) are matched by the two projection searches
-// only when Frame::rejected_match_distance > 0, in a second pass: to the trusted map
-// points (MapPoint::track, tracking thread) that no kept keypoint matched, within
-// that descriptor distance.
+// only when rejected_distance > 0 (tracking.rejected_match_distance), in a second
+// pass: to the trusted map points (MapPoint::track, tracking thread) that no kept
+// keypoint matched, within that descriptor distance.
 
 // Constant-velocity tracking: projects the last frame's matched points with the
 // current pose estimate and searches within radius_px * scale of their level.
-int SearchByProjection(Frame& current, const Frame& last, double radius_px);
+int SearchByProjection(Frame& current, const Frame& last, double radius_px, int rejected_distance);
 
 // Local-map tracking: `points` carry predictions from Frame::IsInFrustum; th
 // scales the search radius. Skips keypoints already matched.
-int SearchLocalPoints(Frame& current, const std::vector<std::shared_ptr<MapPoint>>& points, double th);
+int SearchLocalPoints(Frame& current, const std::vector<std::shared_ptr<MapPoint>>& points, double th,
+                      int rejected_distance);
 
 // Reference-keyframe tracking without a pose prior worth trusting: the keyframe's
 // mapped keypoints against all of the frame's, best distance below kThLow and

@@ -25,11 +25,7 @@ struct Frame {
   cv::Mat gray;  // level-0 grey image, kept for optical flow against the next frame
   std::vector<std::shared_ptr<MapPoint>> map_points;  // by keypoint; nullptr where none
   std::vector<std::uint8_t> outlier;                  // set by pose optimisation
-  std::vector<std::uint8_t> rejected;                 // dynamic: never mapped, matched as below
-  // tracking.rejected_match_distance: the projection searches (matcher.h) may match a
-  // rejected keypoint to a trusted map point that no kept keypoint matched, within
-  // this descriptor distance; 0: never.
-  int rejected_match_distance = 0;
+  std::vector<std::uint8_t> rejected;                 // dynamic: never mapped; matched only as matcher.h says
   SE3 T_c_w;
   bool has_pose = false;
   std::shared_ptr<KeyFrame> reference_kf;

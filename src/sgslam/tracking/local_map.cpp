@@ -65,7 +65,7 @@ std::shared_ptr<KeyFrame> LocalMap::Update(const Frame& frame) {
   return reference;
 }
 
-int LocalMap::Search(Frame& frame, double th) {
+int LocalMap::Search(Frame& frame, double th, int rejected_distance) {
   for (std::size_t i = 0; i < frame.map_points.size(); ++i) {
     const auto& p = frame.map_points[i];
     if (!p) continue;
@@ -86,7 +86,7 @@ int LocalMap::Search(Frame& frame, double th) {
     }
   }
   if (to_match == 0) return 0;
-  return matcher::SearchLocalPoints(frame, points_, th);
+  return matcher::SearchLocalPoints(frame, points_, th, rejected_distance);
 }
 
 }  // namespace sgslam

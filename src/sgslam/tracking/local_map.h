@@ -19,8 +19,8 @@ class LocalMap {
   std::shared_ptr<KeyFrame> Update(const Frame& frame);
 
   // Projects the local points into the frame and matches those in view; returns
-  // the number of new matches.
-  int Search(Frame& frame, double th);
+  // the number of new matches. rejected_distance: matcher::SearchLocalPoints.
+  int Search(Frame& frame, double th, int rejected_distance);
 
  private:
   std::vector<std::shared_ptr<KeyFrame>> keyframes_;

@@ -51,7 +51,6 @@ Tracker::Tracker(const Config& config, Map& map)
 
 TrackResult Tracker::Track(Frame& frame, bool mapping_idle, std::size_t mapping_queue) {
   TrackResult result;
-  frame.rejected_match_distance = config_.tracking.rejected_match_distance;
   if (state_ == TrackState::kNotInitialized) {
     if (Initialize(frame, result)) {
       state_ = TrackState::kOk;
@@ -248,10 +247,10 @@ bool Tracker::TrackWithMotionModel(Frame& frame, TrackResult& result) {
   frame.T_c_w = velocity_ * last_frame_.T_c_w;
   std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
   const double r = config_.tracking.motion_search_radius;
-  int n = matcher::SearchByProjection(frame, last_frame_, r);
+  int n = matcher::SearchByProjection(frame, last_frame_, r, config_.tracking.rejected_match_distance);
   if (n < config_.tracking.min_motion_matches) {  // a wider window before giving up
     std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
-    n = matcher::SearchByProjection(frame, last_frame_, 2 * r);
+    n = matcher::SearchByProjection(frame, last_frame_, 2 * r, config_.tracking.rejected_match_distance);
   }
   result.matches = n;
   if (n < config_.tracking.min_motion_matches) return false;
@@ -339,7 +338,7 @@ bool Tracker::Recover(Frame& frame, TrackResult& result) {
 
 bool Tracker::TrackLocalMap(Frame& frame, TrackResult& result) {
   if (auto ref = local_map_.Update(frame)) reference_kf_ = ref;
-  local_map_.Search(frame, config_.tracking.local_search_radius);
+  local_map_.Search(frame, config_.tracking.local_search_radius, config_.tracking.rejected_match_distance);
   result.matches = static_cast<int>(std::count_if(frame.map_points.begin(), frame.map_points.end(),
                                                   [](const auto& p) { return p != nullptr; }));
   OptimizePose(frame);
