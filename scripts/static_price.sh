@@ -4,7 +4,7 @@
 # same ORB budgets, both panels run side by side (sequential runs are deterministic,
 # so the load does not change them), then each mode's median and the ratio.
 # Why thirty budgets by default: on fr1_rpy three sets of ten gave sg +11 %, +1 %
-# and +15 % over none (README, "The static price over thirty budgets"); one set of
+# and +14 % over none (README, "The static price over thirty budgets"); one set of
 # ten cannot tell 5 % from 15 %. About 20 minutes on two cores for fr1_rpy.
 #   scripts/static_price.sh DATASET OUT_DIR [CONFIG.yaml]
 # Environment: FEATURES="..." replaces the budgets; SGSLAM_BIN another binary;
