@@ -198,6 +198,7 @@ RunSummary RunSequence(const RunOptions& o) {
     semantic_json = {{"keyframes", st.keyframes},
                      {"keyframes_dropped", st.dropped},
                      {"median_keyframe_ms", Median(st.ms)},
+                     {"median_detect_ms", st.median_detect_ms},
                      {"median_mask_ms", st.median_mask_ms},
                      {"median_cloud_ms", st.median_cloud_ms},
                      {"median_octomap_ms", st.median_octomap_ms},

@@ -8,6 +8,8 @@
 // The other filters are off, so that each test sees its own alone.
 #include <gtest/gtest.h>
 
+#include <stdexcept>
+
 #include "sgslam/camera/camera.h"
 #include "semantic/semantic_scenes.h"
 #include "semantic/stepped_keyframes.h"
@@ -86,6 +88,66 @@ TEST(SeenMoving, AMoverTheDetectorMissedInOneKeyframeLeavesTheCloud) {
   // A ratio the evidence does not reach keeps the person.
   config.semantic.seen_moving_ratio = 4;
   EXPECT_EQ(BuildCloud(config).person, off.person);
+}
+
+// The semantic thread's own detector on keyframes (semantic.keyframe_model): a
+// stand-in that finds the person wherever tracking's detector did or did not, and
+// calls the static patch a chair, or that throws.
+class KeyframeDetector final : public Detector {
+ public:
+  explicit KeyframeDetector(bool fail) : fail_(fail) {}
+  std::vector<Detection> Detect(const cv::Mat& bgr, Timestamp) override {
+    if (fail_) throw std::runtime_error("broken network");
+    EXPECT_EQ(bgr.type(), CV_8UC3);
+    Detection chair = PersonBox(kStill);
+    chair.class_name = "chair";  // w = 2: not a moving object, so not masked
+    return {PersonBox(kPerson), chair};
+  }
+  std::string Describe() const override { return "stand-in"; }
+
+ private:
+  bool fail_;
+};
+
+Cloud BuildCloudWith(const Config& config, std::unique_ptr<Detector> keyframe_detector) {
+  std::vector<cv::Mat> depths;
+  std::vector<std::vector<Detection>> boxes(5);
+  for (int k = 0; k < 5; ++k) {
+    cv::Mat depth(480, 640, CV_16UC1, cv::Scalar(4 * 5000));
+    depth(kStill).setTo(2 * 5000);
+    if (k <= 3) depth(kPerson).setTo(2 * 5000);
+    if (k <= 2) boxes[k].push_back(PersonBox(kPerson));  // tracking's detector misses it in keyframe 3
+    depths.push_back(depth);
+  }
+  const test::SteppedCloud cloud = test::ExportSteppedKeyframes(config, depths, boxes, std::move(keyframe_detector));
+  Cloud c;
+  c.points = cloud.points;
+  for (const Eigen::Vector3d& p : c.points) {
+    if (p.z() > 3.5) ++c.wall;
+    else if (p.x() < 0) ++c.person;
+    else ++c.still;
+  }
+  return c;
+}
+
+TEST(KeyframeDetector, ThePeopleItFindsLeaveTheCloudItsOtherClassesStay) {
+  const Cloud off = BuildCloudWith(BaseConfig(), nullptr);
+  EXPECT_GT(off.person, 50u);  // keyframe 3's view of the person
+  const Cloud on = BuildCloudWith(BaseConfig(), std::make_unique<KeyframeDetector>(false));
+  EXPECT_EQ(on.person, 0u);
+  EXPECT_EQ(on.still, off.still);  // its chair is no mover
+  EXPECT_GT(on.still, 50u);
+  // Its box masks the wall behind it too (boxes are masked whole), and only there.
+  EXPECT_LE(on.wall, off.wall);
+  EXPECT_GT(on.wall, off.wall * 95 / 100);
+}
+
+TEST(KeyframeDetector, AFailingOneLeavesTrackingsBoxesAtWork) {
+  const Cloud off = BuildCloudWith(BaseConfig(), nullptr);
+  const Cloud failing = BuildCloudWith(BaseConfig(), std::make_unique<KeyframeDetector>(true));
+  EXPECT_EQ(failing.person, off.person);
+  EXPECT_EQ(failing.still, off.still);
+  EXPECT_EQ(failing.wall, off.wall);
 }
 
 TEST(CloudBorder, TheBorderStripStaysOutOfTheCloud) {

@@ -399,12 +399,14 @@ TEST(SemanticConfig, BadValuesNameTheirKey) {
   Config c;
   c.semantic.octomap_hit = 0.3;
   c.semantic.depth_max = 0.1;
+  c.semantic.keyframe_model = "models/yolo-fastest-1.1-xl";  // a path, not a stem
   try {
     c.Validate("test.yaml");
     FAIL() << "no error";
   } catch (const ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("semantic.octomap_hit = 0.3"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("semantic.depth_max"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("semantic.keyframe_model"), std::string::npos) << e.what();
   }
 }
 

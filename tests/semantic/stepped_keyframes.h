@@ -20,11 +20,13 @@ struct SteppedCloud {
   std::size_t seen_moving = 0, unsupported = 0;  // the mapper's counters of dropped points
 };
 
-// depths[k]: keyframe k's raw depth (5000 per metre); boxes[k], if given, its detections.
+// depths[k]: keyframe k's raw depth (5000 per metre); boxes[k], if given, its detections;
+// keyframe_detector, if given, the semantic thread's own (semantic.keyframe_model).
 inline SteppedCloud ExportSteppedKeyframes(const Config& config, const std::vector<cv::Mat>& depths,
-                                           const std::vector<std::vector<Detection>>& boxes = {}) {
+                                           const std::vector<std::vector<Detection>>& boxes = {},
+                                           std::unique_ptr<Detector> keyframe_detector = nullptr) {
   Map map;
-  SemanticMapper mapper(config, map, /*sequential=*/true);
+  SemanticMapper mapper(config, map, /*sequential=*/true, std::move(keyframe_detector));
   const auto camera = std::make_shared<Camera>(config.camera);
   const auto scale = std::make_shared<ScaleLevels>(features::MakeScaleLevels(1.2, 8));
   const cv::Mat bgr(depths.at(0).size(), CV_8UC3, cv::Scalar(90, 120, 150));

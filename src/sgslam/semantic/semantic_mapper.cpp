@@ -11,6 +11,8 @@
 #include <unordered_set>
 
 #include "sgslam/camera/camera.h"
+#include <spdlog/spdlog.h>
+
 #include "sgslam/common/stats.h"
 #include "sgslam/map/keyframe.h"
 #include "sgslam/map/map.h"
@@ -55,13 +57,16 @@ std::optional<cv::Point> PooledPixel(cv::Size pooled, const Camera& camera, cons
 
 }  // namespace
 
-SemanticMapper::SemanticMapper(const Config& config, const Map& map, bool sequential)
+SemanticMapper::SemanticMapper(const Config& config, const Map& map, bool sequential,
+                               std::unique_ptr<Detector> keyframe_detector)
     : config_(config),
       map_(map),
       sequential_(sequential),
       camera_(std::make_shared<Camera>(config.camera)),
       rays_(*camera_),
       classes_(config.detector),
+      keyframe_detector_(std::move(keyframe_detector)),
+      has_keyframe_detector_(keyframe_detector_ != nullptr),
       octomap_(config.semantic),
       objects_(config.semantic,
                [cam = camera_](const Eigen::Vector3d& p_c) { return cam->Distort(cam->Project(p_c)); },
@@ -191,11 +196,33 @@ void SemanticMapper::ProcessKeyFrame(const SemanticInput& input, const std::vect
   }
   StageMs ms{};
   Stopwatch stage;
+  // The keyframe's own boxes, plus the movers the larger keyframe model finds.
+  std::vector<Detection> extra;
+  if (keyframe_detector_) {
+    try {
+      for (Detection& d : keyframe_detector_->Detect(input.bgr, kf.t)) {
+        if (classes_.is_dynamic(d.class_name)) extra.push_back(std::move(d));
+      }
+    } catch (const std::exception& e) {
+      // The map goes on with tracking's boxes; the thread must not die with it.
+      spdlog::warn("semantic map: the keyframe detector failed ({}); going on without it", e.what());
+      keyframe_detector_.reset();
+    }
+  }
+  const std::vector<Detection>* movers = &f.detections;
+  std::vector<Detection> merged;
+  if (!extra.empty()) {
+    merged = f.detections;
+    merged.insert(merged.end(), extra.begin(), extra.end());
+    movers = &merged;
+  }
+  ms.detect = stage.ElapsedMs();
+  stage.Restart();
   // surface: where the movers themselves were, for the seen-moving filter (a whole
   // box would mark the background behind a person as seen moving).
   cv::Mat surface;
   const bool seen_moving = c.seen_moving_ratio > 0;
-  cv::Mat mask = DynamicPixelMask(input.depth, config_.camera.depth_factor, f.detections, classes_, f.keys, f.dynamic,
+  cv::Mat mask = DynamicPixelMask(input.depth, config_.camera.depth_factor, *movers, classes_, f.keys, f.dynamic,
                                   c, f.unjudged, seen_moving ? &surface : nullptr);
   MaskCarriedBoxes(carried, input.depth, config_.camera.depth_factor, c.box_window_band, mask);
   if (seen_moving) MaskCarriedBoxes(carried, input.depth, config_.camera.depth_factor, c.seen_moving_band, surface);
@@ -471,6 +498,7 @@ SemanticStats SemanticMapper::stats() const {
   s.median_mask_ms = median(&StageMs::mask);
   s.median_cloud_ms = median(&StageMs::cloud);
   s.median_octomap_ms = median(&StageMs::octomap);
+  if (has_keyframe_detector_) s.median_detect_ms = median(&StageMs::detect);
   s.median_objects_ms = median(&StageMs::objects);
   return s;
 }

@@ -31,6 +31,7 @@
 
 #include "sgslam/common/time.h"
 #include "sgslam/config/config.h"
+#include "sgslam/detection/detector.h"
 #include "sgslam/semantic/box_window.h"
 #include "sgslam/semantic/cloud.h"
 #include "sgslam/semantic/objects.h"
@@ -51,13 +52,18 @@ struct SemanticInput {
 struct SemanticStats {
   std::size_t keyframes = 0, dropped = 0;
   std::vector<double> ms;  // per processed keyframe: mask + cloud + OctoMap + objects
+  double median_detect_ms = 0;  // the keyframe detector (semantic.keyframe_model), when there is one
   double median_mask_ms = 0, median_cloud_ms = 0, median_octomap_ms = 0, median_objects_ms = 0;
   std::size_t cloud_points = 0, cloud_points_freed = 0;  // exported, and removed by the free-space filter
 };
 
 class SemanticMapper {
  public:
-  SemanticMapper(const Config& config, const Map& map, bool sequential);
+  // keyframe_detector (optional): run on every keyframe's colour image; its
+  // dynamic-class boxes join the keyframe's in the dynamic mask
+  // (semantic.keyframe_model). Used by the semantic thread alone.
+  SemanticMapper(const Config& config, const Map& map, bool sequential,
+                 std::unique_ptr<Detector> keyframe_detector = nullptr);
   ~SemanticMapper();
   SemanticMapper(const SemanticMapper&) = delete;
   SemanticMapper& operator=(const SemanticMapper&) = delete;
@@ -68,6 +74,7 @@ class SemanticMapper {
   void AddFrame(std::uint64_t frame_id, const SE3& T_c_w, const std::vector<Detection>& detections,
                 const cv::Mat& depth_raw);
   void Finish();
+  bool has_keyframe_detector() const { return has_keyframe_detector_; }
 
   // After Finish(), under the map's shared lock.
   void ExportCloud(std::vector<Eigen::Vector3d>& points, std::vector<Rgb>& colours);
@@ -112,6 +119,8 @@ class SemanticMapper {
   std::shared_ptr<const Camera> camera_;
   PixelRays rays_;
   ClassTable classes_;
+  std::unique_ptr<Detector> keyframe_detector_;  // the worker's alone (reset if it fails)
+  const bool has_keyframe_detector_;
 
   struct KeyFrameCloud {
     std::shared_ptr<KeyFrame> keyframe;
@@ -146,7 +155,7 @@ class SemanticMapper {
   std::optional<std::uint64_t> last_frame_id_;
   mutable SemanticStats stats_;
   struct StageMs {
-    double mask, cloud, octomap, objects;
+    double detect, mask, cloud, octomap, objects;
   };
   std::vector<StageMs> stage_ms_;  // guarded by mutex_
   bool stop_ = false;

@@ -1,5 +1,6 @@
 #include "sgslam/system/slam_system.h"
 
+#include <filesystem>
 #include <thread>
 
 #include <sys/resource.h>
@@ -11,6 +12,8 @@
 #include <spdlog/spdlog.h>
 
 #include "sgslam/common/stats.h"
+#include "sgslam/detection/darknet_model.h"
+#include "sgslam/detection/dnn_detector.h"
 #include "sgslam/map/map_check.h"
 
 namespace sgslam {
@@ -33,7 +36,26 @@ SlamSystem::SlamSystem(const Config& config, bool sequential, std::unique_ptr<De
   // paced and unpaced: median frame time the same within noise, tracking slower).
   const bool spare_core = std::thread::hardware_concurrency() > 2 && !sequential_ && !dynamic_.has_detector();
   extractor_.set_threads(config.orb.threads > 0 ? config.orb.threads : (spare_core ? 2 : 1));
-  if (config.semantic.enabled) semantic_ = std::make_unique<SemanticMapper>(config, map_, sequential);
+  if (config.semantic.enabled) {
+    // The larger keyframe model only where the fast one runs on the network backend
+    // (file detections are exact already; without a detector no mode uses boxes).
+    std::unique_ptr<Detector> keyframe_detector;
+    if (!config.semantic.keyframe_model.empty() && config.detector.backend == "dnn" && dynamic_.has_detector()) {
+      DetectorConfig dc = config.detector;
+      dc.model = config.semantic.keyframe_model;
+      const std::filesystem::path dir = ResolveModelDir(dc.model_dir);
+      std::error_code ec;
+      if (std::filesystem::exists(dir / (dc.model + ".cfg"), ec) &&
+          std::filesystem::exists(dir / (dc.model + ".weights"), ec)) {
+        keyframe_detector = std::make_unique<DnnDetector>(dc);  // a broken file is an error, as for tracking's
+      } else {
+        spdlog::warn("semantic.keyframe_model {}: no {}.cfg and .weights in {}; the map masks movers with tracking's "
+                     "boxes alone (set semantic.keyframe_model to \"\" to silence this)",
+                     dc.model, dc.model, dir.string());
+      }
+    }
+    semantic_ = std::make_unique<SemanticMapper>(config, map_, sequential, std::move(keyframe_detector));
+  }
   if (!sequential_) mapping_thread_ = std::thread([this] { MappingLoop(); });
 }
 

@@ -85,7 +85,11 @@ class SlamSystem {
   // T_out_map: the frame objects are expressed (and boxed) in; cloud: map frame.
   void ExportSemantic(std::vector<Eigen::Vector3d>& cloud, std::vector<Rgb>& colours,
                       std::vector<ObjectEstimate>& objects, const SE3& T_out_map = SE3()) const;
-  std::string DescribeDetector() const { return dynamic_.DescribeDetector(); }
+  std::string DescribeDetector() const {
+    std::string s = dynamic_.DescribeDetector();
+    if (semantic_ && semantic_->has_keyframe_detector()) s += "; keyframes also through " + config_.semantic.keyframe_model + " for the map";
+    return s;
+  }
 
  private:
   void MappingLoop();
