@@ -163,9 +163,10 @@ class SemanticSystem : public ::testing::Test {
 // side of the room cannot see an object's back, so the test holds the system to
 // what it does reach (seed 1, background planes removed; measured worst case in
 // brackets): every object found, once, with its class [8 of 8; 7 before views cut by
-// the image border could start objects], centroids within 0.07 m [0.054] and within
-// 5 cm for at least 3/4 of the objects [7 of 8], every axis of every size within
-// 0.10 m [0.068]. Tighten as the estimate improves.
+// the image border could start objects], centroids within 0.07 m [0.061, the
+// monitor along its depth axis; 0.054 on an earlier trajectory] and within 5 cm for
+// at least 3/4 of the objects [7 of 8], every axis of every size within 0.10 m
+// [0.071]. Tighten as the estimate improves.
 TEST_F(SemanticSystem, ObjectsPresetGivesEveryObjectOnceWithItsClassPlaceAndSize) {
   const fs::path seq = Generate("objects");
   const Result r = RunOn(seq);
@@ -179,7 +180,7 @@ TEST_F(SemanticSystem, ObjectsPresetGivesEveryObjectOnceWithItsClassPlaceAndSize
     // The nearest ground-truth object of the same class.
     double best = 1e9;
     int best_id = -1;
-    Eigen::Vector3d best_size = Eigen::Vector3d::Zero();
+    Eigen::Vector3d best_size = Eigen::Vector3d::Zero(), best_offset = Eigen::Vector3d::Zero();
     for (const auto& g : gt["objects"]) {
       if (g["class"] != o.class_name) continue;
       const Eigen::Vector3d c(g["centroid"][0], g["centroid"][1], g["centroid"][2]);
@@ -187,13 +188,14 @@ TEST_F(SemanticSystem, ObjectsPresetGivesEveryObjectOnceWithItsClassPlaceAndSize
         best = (c - o.centroid).norm();
         best_id = g["id"];
         best_size = Eigen::Vector3d(g["size"][0], g["size"][1], g["size"][2]);
+        best_offset = o.centroid - c;
       }
     }
     ASSERT_GE(best_id, 0) << o.class_name << " is not in the scene";
     ++matched[best_id];
-    std::printf("  %-12s obs %3d  centroid error %.3f m  size error %.3f %.3f %.3f m\n", o.class_name.c_str(),
-                o.observations, best, std::abs(o.size.x() - best_size.x()), std::abs(o.size.y() - best_size.y()),
-                std::abs(o.size.z() - best_size.z()));
+    std::printf("  %-12s obs %3d  centroid error %.3f m (%+.3f %+.3f %+.3f)  size error %+.3f %+.3f %+.3f m\n",
+                o.class_name.c_str(), o.observations, best, best_offset.x(), best_offset.y(), best_offset.z(),
+                o.size.x() - best_size.x(), o.size.y() - best_size.y(), o.size.z() - best_size.z());
     EXPECT_LT(best, 0.07) << o.class_name << " " << o.id << ": centroid " << o.centroid.transpose();
     centroid_ok += best < 0.05;
     size_ok += (o.size - best_size).cwiseAbs().maxCoeff() < 0.10;
