@@ -35,16 +35,27 @@ namespace fs = std::filesystem;
 namespace {
 
 std::atomic<bool> g_interrupted{false};
+std::atomic<bool> g_octomap_requested{false};
 extern "C" void OnInterrupt(int) { g_interrupted = true; }
+extern "C" void OnOctoMapRequest(int) { g_octomap_requested = true; }
 
-// Restores the previous SIGINT handler on scope exit.
+// Restores the previous SIGINT and SIGUSR1 handlers on scope exit. SIGUSR1
+// (`kill -USR1 <pid>`) asks for the OctoMap built so far, in octomap.bt.
 class InterruptGuard {
  public:
-  InterruptGuard() : previous_(std::signal(SIGINT, OnInterrupt)) { g_interrupted = false; }
-  ~InterruptGuard() { std::signal(SIGINT, previous_); }
+  InterruptGuard()
+      : previous_(std::signal(SIGINT, OnInterrupt)), previous_usr1_(std::signal(SIGUSR1, OnOctoMapRequest)) {
+    g_interrupted = false;
+    g_octomap_requested = false;
+  }
+  ~InterruptGuard() {
+    std::signal(SIGINT, previous_);
+    std::signal(SIGUSR1, previous_usr1_);
+  }
 
  private:
   void (*previous_)(int);
+  void (*previous_usr1_)(int);
 };
 
 nlohmann::json MedianOf(const std::vector<FrameReport>& reports, double FrameReport::*field) {
@@ -142,6 +153,13 @@ RunSummary RunSequence(const RunOptions& o) {
         r.keypoints = {};  // keep the per-frame record small
         r.rejected = {};
         progress.Update(reports.size(), reports.size() / (wall.ElapsedMs() * 1e-3));
+        if (g_octomap_requested.exchange(false)) {
+          if (SemanticMapper* sem = system.semantic()) {
+            sem->RequestOctoMap(s.out / "octomap.bt");
+          } else {
+            spdlog::warn("OctoMap requested (SIGUSR1), but the semantic thread is off (semantic.enabled)");
+          }
+        }
         if (g_interrupted) {
           spdlog::warn("interrupted: writing the outputs of the {} frames processed", reports.size());
           break;

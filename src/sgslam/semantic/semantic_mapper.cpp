@@ -163,6 +163,34 @@ void SemanticMapper::Finish() {
   if (sequential_) ProcessReady(true);  // the last keyframes' windows end with the sequence
 }
 
+void SemanticMapper::RequestOctoMap(const std::filesystem::path& path) {
+  if (sequential_ || finished_) {  // this thread is the only one touching the OctoMap
+    WriteLiveOctoMap(path);
+    return;
+  }
+  {
+    std::lock_guard lock(mutex_);
+    octomap_request_ = path;
+  }
+  wake_.notify_one();
+}
+
+std::size_t SemanticMapper::octomaps_written() const {
+  std::lock_guard lock(mutex_);
+  return octomaps_written_;
+}
+
+void SemanticMapper::WriteLiveOctoMap(const std::filesystem::path& path) {
+  try {
+    octomap_.Write(path);
+    spdlog::info("OctoMap so far ({} keyframes) written to {}", clouds_.size(), path.string());
+    std::lock_guard lock(mutex_);
+    ++octomaps_written_;
+  } catch (const std::exception& e) {
+    spdlog::error("OctoMap request: {}", e.what());
+  }
+}
+
 void SemanticMapper::Loop() {
   // The map is for later use; poses are for now: on two cores the semantic work
   // takes only the time tracking and local mapping leave (Linux: per-thread nice).
@@ -174,7 +202,16 @@ void SemanticMapper::Loop() {
       std::unique_lock lock(mutex_);
       // The front keyframe waits for the frames after it (box_window), so that it
       // is masked with the same boxes as in sequential mode.
-      wake_.wait(lock, [&] { return stop_ || (!queue_.empty() && WindowComplete(queue_.front().keyframe->frame_id)); });
+      wake_.wait(lock, [&] {
+        return stop_ || octomap_request_ || (!queue_.empty() && WindowComplete(queue_.front().keyframe->frame_id));
+      });
+      if (octomap_request_) {
+        const std::filesystem::path path = *octomap_request_;
+        octomap_request_.reset();
+        lock.unlock();
+        WriteLiveOctoMap(path);  // the OctoMap is this thread's
+        continue;
+      }
       if (queue_.empty()) return;  // stopped and drained
       input = std::move(queue_.front());
       queue_.pop_front();

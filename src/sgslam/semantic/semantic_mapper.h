@@ -74,6 +74,11 @@ class SemanticMapper {
   void AddFrame(std::uint64_t frame_id, const SE3& T_c_w, const std::vector<Detection>& detections,
                 const cv::Mat& depth_raw);
   void Finish();
+  // Writes the live OctoMap (as built so far, before the export filters) to path,
+  // atomically: at once in sequential mode, else by the semantic thread after the
+  // keyframe it is on. Never throws; a failed write is logged. (sgslam run: SIGUSR1.)
+  void RequestOctoMap(const std::filesystem::path& path);
+  std::size_t octomaps_written() const;
   bool has_keyframe_detector() const { return has_keyframe_detector_; }
 
   // After Finish(), under the map's shared lock.
@@ -148,11 +153,14 @@ class SemanticMapper {
   OctoMapBuilder octomap_;
   ObjectDatabase objects_;
 
-  mutable std::mutex mutex_;  // guards queue_, frames_, last_frame_id_, stats_, stop_
+  mutable std::mutex mutex_;  // guards queue_, frames_, last_frame_id_, stats_, stop_, octomap_request_
   std::condition_variable wake_;
   std::deque<SemanticInput> queue_;  // parallel: waiting for the worker; sequential: for their box window
   std::deque<FrameBoxes> frames_;    // the last box_window_history frames, by frame id
   std::optional<std::uint64_t> last_frame_id_;
+  std::optional<std::filesystem::path> octomap_request_;  // guarded by mutex_
+  std::size_t octomaps_written_ = 0;                      // guarded by mutex_
+  void WriteLiveOctoMap(const std::filesystem::path& path);  // the worker (or the only thread)
   mutable SemanticStats stats_;
   struct StageMs {
     double detect, mask, cloud, octomap, objects;
