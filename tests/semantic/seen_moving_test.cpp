@@ -5,6 +5,8 @@
 //    0-3 and the detector finds it in 0-2 only; a static patch at 2 m is in every
 //    keyframe and a person box (a false detection) covers it in keyframe 4 only.
 //  - semantic.cloud_border: the image border strip stays out of the cloud.
+// And the semantic thread's own keyframe detector (semantic.keyframe_model) on the
+// same scene: the people it finds join the mask, its other classes do not.
 // The other filters are off, so that each test sees its own alone.
 #include <gtest/gtest.h>
 
@@ -45,7 +47,8 @@ struct Cloud {
   std::vector<Eigen::Vector3d> points;
 };
 
-Cloud BuildCloud(const Config& config) {
+// keyframe_detector: the semantic thread's own (semantic.keyframe_model), if any.
+Cloud BuildCloud(const Config& config, std::unique_ptr<Detector> keyframe_detector = nullptr) {
   std::vector<cv::Mat> depths;
   std::vector<std::vector<Detection>> boxes(5);
   for (int k = 0; k < 5; ++k) {
@@ -56,7 +59,7 @@ Cloud BuildCloud(const Config& config) {
     if (k == 4) boxes[k].push_back(PersonBox(kStill));   // a false detection on the static patch
     depths.push_back(depth);
   }
-  const test::SteppedCloud cloud = test::ExportSteppedKeyframes(config, depths, boxes);
+  const test::SteppedCloud cloud = test::ExportSteppedKeyframes(config, depths, boxes, std::move(keyframe_detector));
   Cloud c;
   c.points = cloud.points;
   for (const Eigen::Vector3d& p : c.points) {
@@ -109,31 +112,10 @@ class KeyframeDetector final : public Detector {
   bool fail_;
 };
 
-Cloud BuildCloudWith(const Config& config, std::unique_ptr<Detector> keyframe_detector) {
-  std::vector<cv::Mat> depths;
-  std::vector<std::vector<Detection>> boxes(5);
-  for (int k = 0; k < 5; ++k) {
-    cv::Mat depth(480, 640, CV_16UC1, cv::Scalar(4 * 5000));
-    depth(kStill).setTo(2 * 5000);
-    if (k <= 3) depth(kPerson).setTo(2 * 5000);
-    if (k <= 2) boxes[k].push_back(PersonBox(kPerson));  // tracking's detector misses it in keyframe 3
-    depths.push_back(depth);
-  }
-  const test::SteppedCloud cloud = test::ExportSteppedKeyframes(config, depths, boxes, std::move(keyframe_detector));
-  Cloud c;
-  c.points = cloud.points;
-  for (const Eigen::Vector3d& p : c.points) {
-    if (p.z() > 3.5) ++c.wall;
-    else if (p.x() < 0) ++c.person;
-    else ++c.still;
-  }
-  return c;
-}
-
 TEST(KeyframeDetector, ThePeopleItFindsLeaveTheCloudItsOtherClassesStay) {
-  const Cloud off = BuildCloudWith(BaseConfig(), nullptr);
+  const Cloud off = BuildCloud(BaseConfig(), nullptr);
   EXPECT_GT(off.person, 50u);  // keyframe 3's view of the person
-  const Cloud on = BuildCloudWith(BaseConfig(), std::make_unique<KeyframeDetector>(false));
+  const Cloud on = BuildCloud(BaseConfig(), std::make_unique<KeyframeDetector>(false));
   EXPECT_EQ(on.person, 0u);
   EXPECT_EQ(on.still, off.still);  // its chair is no mover
   EXPECT_GT(on.still, 50u);
@@ -143,8 +125,8 @@ TEST(KeyframeDetector, ThePeopleItFindsLeaveTheCloudItsOtherClassesStay) {
 }
 
 TEST(KeyframeDetector, AFailingOneLeavesTrackingsBoxesAtWork) {
-  const Cloud off = BuildCloudWith(BaseConfig(), nullptr);
-  const Cloud failing = BuildCloudWith(BaseConfig(), std::make_unique<KeyframeDetector>(true));
+  const Cloud off = BuildCloud(BaseConfig(), nullptr);
+  const Cloud failing = BuildCloud(BaseConfig(), std::make_unique<KeyframeDetector>(true));
   EXPECT_EQ(failing.person, off.person);
   EXPECT_EQ(failing.still, off.still);
   EXPECT_EQ(failing.wall, off.wall);
