@@ -10,9 +10,9 @@
 #include <unordered_map>
 #include <unordered_set>
 
-#include "sgslam/camera/camera.h"
 #include <spdlog/spdlog.h>
 
+#include "sgslam/camera/camera.h"
 #include "sgslam/common/stats.h"
 #include "sgslam/map/keyframe.h"
 #include "sgslam/map/map.h"

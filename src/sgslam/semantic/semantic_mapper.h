@@ -51,7 +51,7 @@ struct SemanticInput {
 
 struct SemanticStats {
   std::size_t keyframes = 0, dropped = 0;
-  std::vector<double> ms;  // per processed keyframe: mask + cloud + OctoMap + objects
+  std::vector<double> ms;  // per processed keyframe: keyframe detector + mask + cloud + OctoMap + objects
   double median_detect_ms = 0;  // the keyframe detector (semantic.keyframe_model), when there is one
   double median_mask_ms = 0, median_cloud_ms = 0, median_octomap_ms = 0, median_objects_ms = 0;
   std::size_t cloud_points = 0, cloud_points_freed = 0;  // exported, and removed by the free-space filter
