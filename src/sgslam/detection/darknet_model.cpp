@@ -105,10 +105,18 @@ fs::path ResolveModelDir(const std::string& model_dir) {
   return dir;
 }
 
+fs::path DarknetCfgPath(const fs::path& dir, const std::string& model) { return dir / (model + ".cfg"); }
+fs::path DarknetWeightsPath(const fs::path& dir, const std::string& model) { return dir / (model + ".weights"); }
+
+bool DarknetModelPresent(const fs::path& dir, const std::string& model) {
+  std::error_code ec;
+  return fs::is_regular_file(DarknetCfgPath(dir, model), ec) && fs::is_regular_file(DarknetWeightsPath(dir, model), ec);
+}
+
 DarknetModel LoadDarknetModel(const fs::path& dir, const std::string& model, float score_floor) {
   DarknetModel m;
-  m.cfg = dir / (model + ".cfg");
-  m.weights = dir / (model + ".weights");
+  m.cfg = DarknetCfgPath(dir, model);
+  m.weights = DarknetWeightsPath(dir, model);
   const fs::path names_file = dir / "coco.names";
   const std::string cfg_text = ReadWholeFile(m.cfg, "model cfg file");
   const std::string weights = ReadWholeFile(m.weights, "model weights file");

@@ -16,6 +16,12 @@ namespace sgslam {
 // neither is set (saying how to set one) or the folder does not exist.
 std::filesystem::path ResolveModelDir(const std::string& model_dir);
 
+// <dir>/<model>.cfg and <dir>/<model>.weights, the files LoadDarknetModel reads.
+std::filesystem::path DarknetCfgPath(const std::filesystem::path& dir, const std::string& model);
+std::filesystem::path DarknetWeightsPath(const std::filesystem::path& dir, const std::string& model);
+// Both files of the model are in dir (whether they load is LoadDarknetModel's test).
+bool DarknetModelPresent(const std::filesystem::path& dir, const std::string& model);
+
 struct DarknetModel {
   cv::dnn::Net net;
   std::vector<std::string> class_names;  // coco.names, line i = class id i

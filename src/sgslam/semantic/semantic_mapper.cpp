@@ -234,11 +234,11 @@ void SemanticMapper::ProcessKeyFrame(const SemanticInput& input, const std::vect
   StageMs ms{};
   Stopwatch stage;
   // The keyframe's own boxes, plus the movers the larger keyframe model finds.
-  std::vector<Detection> extra;
+  std::vector<Detection> movers = f.detections;
   if (keyframe_detector_) {
     try {
       for (Detection& d : keyframe_detector_->Detect(input.bgr, kf.t)) {
-        if (classes_.is_dynamic(d.class_name)) extra.push_back(std::move(d));
+        if (classes_.is_dynamic(d.class_name)) movers.push_back(std::move(d));
       }
     } catch (const std::exception& e) {
       // The map goes on with tracking's boxes; the thread must not die with it.
@@ -246,20 +246,13 @@ void SemanticMapper::ProcessKeyFrame(const SemanticInput& input, const std::vect
       keyframe_detector_.reset();
     }
   }
-  const std::vector<Detection>* movers = &f.detections;
-  std::vector<Detection> merged;
-  if (!extra.empty()) {
-    merged = f.detections;
-    merged.insert(merged.end(), extra.begin(), extra.end());
-    movers = &merged;
-  }
   ms.detect = stage.ElapsedMs();
   stage.Restart();
   // surface: where the movers themselves were, for the seen-moving filter (a whole
   // box would mark the background behind a person as seen moving).
   cv::Mat surface;
   const bool seen_moving = c.seen_moving_ratio > 0;
-  cv::Mat mask = DynamicPixelMask(input.depth, config_.camera.depth_factor, *movers, classes_, f.keys, f.dynamic,
+  cv::Mat mask = DynamicPixelMask(input.depth, config_.camera.depth_factor, movers, classes_, f.keys, f.dynamic,
                                   c, f.unjudged, seen_moving ? &surface : nullptr);
   MaskCarriedBoxes(carried, input.depth, config_.camera.depth_factor, c.box_window_band, mask);
   if (seen_moving) MaskCarriedBoxes(carried, input.depth, config_.camera.depth_factor, c.seen_moving_band, surface);

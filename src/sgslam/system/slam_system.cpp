@@ -44,9 +44,7 @@ SlamSystem::SlamSystem(const Config& config, bool sequential, std::unique_ptr<De
       DetectorConfig dc = config.detector;
       dc.model = config.semantic.keyframe_model;
       const std::filesystem::path dir = ResolveModelDir(dc.model_dir);
-      std::error_code ec;
-      if (std::filesystem::exists(dir / (dc.model + ".cfg"), ec) &&
-          std::filesystem::exists(dir / (dc.model + ".weights"), ec)) {
+      if (DarknetModelPresent(dir, dc.model)) {
         keyframe_detector = std::make_unique<DnnDetector>(dc);  // a broken file is an error, as for tracking's
       } else {
         spdlog::warn("semantic.keyframe_model {}: no {}.cfg and .weights in {}; the map masks movers with tracking's "
