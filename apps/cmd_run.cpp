@@ -14,11 +14,11 @@ Action AddRunCommand(CLI::App& root) {
   CLI::App* cmd = root.add_subcommand("run", "Run SLAM on an RGB-D sequence in the TUM layout");
   cmd->add_option("--dataset", o->dataset, "Dataset folder (rgb.txt, depth.txt[, associations.txt, groundtruth.txt])")
       ->required();
-  cmd->add_option("--config", o->config, "YAML config (default: the dataset's sgslam.yaml or a preset by folder name)");
+  cmd->add_option("--config", o->config, "YAML config file, or the name of one shipped with sgslam (tum_fr1, tum_fr2, tum_fr3, bonn); default: the dataset's sgslam.yaml or a preset by folder name");
   cmd->add_option("--out", o->out, "Output folder (default: ./sgslam-out/<dataset name>)");
   cmd->add_option("--mode", o->mode, "Dynamic feature rejection: none, semantic, geometric or sg")
       ->check(CLI::IsMember({"none", "semantic", "geometric", "sg"}));
-  cmd->add_option("--model", o->model, "Detector model folder (or $SGSLAM_MODEL_DIR)");
+  cmd->add_option("--model", o->model, "Detector model folder (default: $SGSLAM_MODEL_DIR, else the models shipped with sgslam)");
   cmd->add_flag("--no-detector", o->no_detector, "Run without the object detector (geometry only)");
   cmd->add_option("--max-frames", o->max_frames, "Stop after N frames (0: all)")->check(CLI::NonNegativeNumber);
   cmd->add_flag("--sequential", o->sequential, "Step every module in one thread (deterministic output)");

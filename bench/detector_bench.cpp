@@ -1,32 +1,18 @@
 // Inference time of the detection thread per 640x480 frame (blob, forward pass,
 // decoding) for both Yolo-Fastest models, with one OpenCV thread (the default
 // budget, dnn_detector.h) and with OpenCV's default thread count. The model folder
-// is $SGSLAM_MODEL_DIR, else ../shared/models/yolo-fastest-1.1-coco or
-// ../../shared/... from the working directory; without it the benchmarks skip.
+// is found as `sgslam run` finds it ($SGSLAM_MODEL_DIR, else the shipped models).
 #include <benchmark/benchmark.h>
 
-#include <cstdlib>
-#include <filesystem>
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
-#include <optional>
 
 #include "sgslam/detection/dnn_detector.h"
 
 namespace {
 
-namespace fs = std::filesystem;
 using namespace sgslam;
-
-std::optional<fs::path> FindModelDir() {
-  if (const char* env = std::getenv("SGSLAM_MODEL_DIR"); env && *env) return fs::path(env);
-  for (const char* up : {"../shared", "../../shared"}) {
-    const fs::path dir = fs::path(up) / "models" / "yolo-fastest-1.1-coco";
-    if (fs::is_directory(dir)) return dir;
-  }
-  return std::nullopt;
-}
 
 // A real photo when the darknet package is installed (the decoding then has
 // objects to decode), else textured noise; both 640x480 like TUM frames.
@@ -44,14 +30,8 @@ cv::Mat TestImage() {
 
 // range(0): 0 = yolo-fastest-1.1, 1 = yolo-fastest-1.1-xl; range(1): OpenCV threads (0: OpenCV's default).
 void BM_Detect(benchmark::State& state) {
-  const auto dir = FindModelDir();
-  if (!dir) {
-    state.SkipWithError("model folder not found: set SGSLAM_MODEL_DIR");
-    return;
-  }
   const int default_threads = cv::getNumThreads();
   DetectorConfig config;
-  config.model_dir = dir->string();
   config.model = state.range(0) == 0 ? "yolo-fastest-1.1" : "yolo-fastest-1.1-xl";
   config.threads = static_cast<int>(state.range(1));
   DnnDetector detector(config);

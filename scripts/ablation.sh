@@ -3,8 +3,8 @@
 # and prints a Markdown table of ATE (RMSE, mean, median, std), the rejection
 # against ground-truth masks when the sequence has them, and the speed.
 #   scripts/ablation.sh DATASET [OUT_DIR] [extra `sgslam run` options, e.g. --sequential]
-# The detector model is found as `sgslam run` finds it (--model, detector.model_dir
-# or $SGSLAM_MODEL_DIR); without one, semantic and sg degrade and say so.
+# The detector model is found as `sgslam run` finds it (--model, detector.model_dir,
+# $SGSLAM_MODEL_DIR, else the models shipped with sgslam).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ $# -lt 1 ]; then

@@ -1,14 +1,16 @@
 #!/usr/bin/env bash
 # Installs the Debian packages sgslam needs (only the missing ones; apt-get update
 # only when something must be installed) and configures and builds a Release build.
-#   scripts/setup.sh [--no-build] [--asan|--tsan]   (build folder: build, build-asan, build-tsan)
+#   scripts/setup.sh [--no-build] [--asan|--tsan] [--target T]
+# Build folder: build, build-asan or build-tsan. --target builds one CMake target
+# (the demo builds only `sgslam`); without it every target, tests included.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
 PACKAGES=(
   cmake g++ make pkg-config
   libeigen3-dev libopencv-dev libceres-dev liboctomap-dev
-  libyaml-cpp-dev libcli11-dev libspdlog-dev nlohmann-json3-dev
+  libyaml-cpp-dev libcli11-dev libspdlog-dev nlohmann-json3-dev libssl-dev
   libgtest-dev libbenchmark-dev
   darknet  # only for /usr/share/darknet/data/person.jpg, the detector test's real image
   python3  # scripts/ablation.sh tables
@@ -17,12 +19,17 @@ PACKAGES=(
 build=1
 build_dir=build
 cmake_flags=(-DCMAKE_BUILD_TYPE=Release)
-for arg in "$@"; do
+targets=()
+while [ $# -gt 0 ]; do
+  arg=$1; shift
   case "$arg" in
     --no-build) build=0 ;;
+    --target)
+      [ $# -gt 0 ] || { echo "setup.sh: --target needs a target name" >&2; exit 2; }
+      targets=(--target "$1"); shift ;;
     --asan) build_dir=build-asan; cmake_flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DSGSLAM_ASAN=ON -DSGSLAM_BUILD_BENCH=OFF) ;;
     --tsan) build_dir=build-tsan; cmake_flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DSGSLAM_TSAN=ON -DSGSLAM_BUILD_BENCH=OFF) ;;
-    *) echo "setup.sh: unknown option '$arg' (use --no-build, --asan or --tsan)" >&2; exit 2 ;;
+    *) echo "setup.sh: unknown option '$arg' (use --no-build, --asan, --tsan or --target T)" >&2; exit 2 ;;
   esac
 done
 
@@ -47,6 +54,6 @@ fi
 if [ "$build" = 1 ]; then
   jobs=$(nproc 2>/dev/null || echo 2)
   cmake -S . -B "$build_dir" "${cmake_flags[@]}" >/dev/null
-  cmake --build "$build_dir" -j "$jobs"
-  echo "setup: built $build_dir/sgslam"
+  cmake --build "$build_dir" -j "$jobs" "${targets[@]}"
+  echo "setup: built $build_dir${targets[1]:+ (target ${targets[1]})}"
 fi

@@ -8,7 +8,7 @@
 # ten cannot tell 5 % from 15 %. About 20 minutes on two cores for fr1_rpy.
 #   scripts/static_price.sh DATASET OUT_DIR [CONFIG.yaml]
 # Environment: FEATURES="..." replaces the budgets; SGSLAM_BIN another binary;
-# the detector's model folder as for `sgslam run` (SGSLAM_MODEL_DIR).
+# the detector model as for `sgslam run` (the shipped one unless SGSLAM_MODEL_DIR).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [ $# -lt 2 ] || [ $# -gt 3 ]; then

@@ -24,7 +24,7 @@ bool Mentions(const std::vector<std::string>& problems, const std::string& text)
 }
 
 TEST(ClassTable, EveryCocoNameHasAWeight) {
-  SGSLAM_REQUIRE_SHARED(names_file, "models/yolo-fastest-1.1-coco/coco.names");
+  const auto names_file = test::SourceDir() / "models" / "yolo-fastest-1.1-coco" / "coco.names";
   std::ifstream in(names_file);
   std::set<std::string> names;
   for (std::string line; std::getline(in, line);) {

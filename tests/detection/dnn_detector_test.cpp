@@ -1,15 +1,17 @@
-// Needs the Yolo-Fastest folder ($SGSLAM_MODEL_DIR or ../shared/models/yolo-fastest-1.1-coco)
-// and, for the photo tests, /usr/share/darknet/data/person.jpg (Debian package darknet).
+// The Yolo-Fastest models ship in models/; the photo tests need
+// /usr/share/darknet/data/person.jpg (Debian package darknet).
 #include "sgslam/detection/dnn_detector.h"
 
 #include <gtest/gtest.h>
 
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 #include <optional>
 
 #include "sgslam/common/error.h"
+#include "sgslam/detection/darknet_model.h"
 #include "support/test_support.h"
 
 namespace sgslam {
@@ -19,15 +21,32 @@ namespace fs = std::filesystem;
 
 const fs::path kPhoto = "/usr/share/darknet/data/person.jpg";
 
-std::optional<fs::path> ModelDir() {
-  if (const char* env = std::getenv("SGSLAM_MODEL_DIR"); env && *env && fs::is_directory(env)) return fs::path(env);
-  return test::SharedPath("models/yolo-fastest-1.1-coco");
-}
+// The models in the source tree (the build tree's copy is what DefaultModelDir finds).
+const fs::path kModelDir = test::SourceDir() / "models" / kDefaultModelFolder;
 
-#define REQUIRE_MODEL(var)                                                                             \
-  const auto var##_opt = ModelDir();                                                                   \
-  if (!var##_opt) GTEST_SKIP() << "model folder not found: set SGSLAM_MODEL_DIR or SGSLAM_SHARED_DIR"; \
-  const fs::path var = *var##_opt
+// Sets an environment variable for the scope, or unsets it (nullopt).
+class ScopedEnv {
+ public:
+  ScopedEnv(const char* name, std::optional<std::string> value) : name_(name) {
+    if (const char* old = std::getenv(name)) saved_ = old;
+    if (value) {
+      setenv(name, value->c_str(), 1);
+    } else {
+      unsetenv(name);
+    }
+  }
+  ~ScopedEnv() {
+    if (saved_) {
+      setenv(name_, saved_->c_str(), 1);
+    } else {
+      unsetenv(name_);
+    }
+  }
+
+ private:
+  const char* name_;
+  std::optional<std::string> saved_;
+};
 
 #define REQUIRE_PHOTO(var)                                                                                          \
   if (!fs::exists(kPhoto)) GTEST_SKIP() << kPhoto << " not found: apt-get install --no-install-recommends darknet"; \
@@ -75,7 +94,7 @@ void ExpectPersonAsInPhoto(const std::vector<Detection>& detections) {
 }
 
 TEST(DnnDetector, FindsThePersonInARealPhoto) {
-  REQUIRE_MODEL(dir);
+  const fs::path& dir = kModelDir;
   REQUIRE_PHOTO(photo);
   for (const char* model : {"yolo-fastest-1.1", "yolo-fastest-1.1-xl"}) {
     SCOPED_TRACE(model);
@@ -91,7 +110,7 @@ TEST(DnnDetector, FindsThePersonInARealPhoto) {
 
 // OpenCV's [yolo] layer drops class scores <= 0.2 unless the cfg says otherwise.
 TEST(DnnDetector, KeepsScoresBelowTheLayerDefault) {
-  REQUIRE_MODEL(dir);
+  const fs::path& dir = kModelDir;
   REQUIRE_PHOTO(photo);
   auto config = ConfigFor(dir);
   config.score_threshold = config.person_score_threshold = 0.05;
@@ -106,7 +125,7 @@ TEST(DnnDetector, KeepsScoresBelowTheLayerDefault) {
 }
 
 TEST(DnnDetector, MissingOrBrokenFilesAreNamed) {
-  REQUIRE_MODEL(dir);
+  const fs::path& dir = kModelDir;
   test::TempDir tmp;
   ExpectInputErrorNaming([&] { DnnDetector d(ConfigFor(tmp / "absent")); }, (tmp / "absent").string());
   ExpectInputErrorNaming([&] { DnnDetector d(ConfigFor(tmp.path())); }, (tmp / "yolo-fastest-1.1.cfg").string());
@@ -139,13 +158,57 @@ TEST(DnnDetector, MissingOrBrokenFilesAreNamed) {
   ExpectInputErrorNaming([&] { DnnDetector d(ConfigFor(tmp.path())); }, (tmp / "coco.names").string());
 }
 
-TEST(DnnDetector, NoFolderConfiguredSaysHowToSetOne) {
-  const char* old = std::getenv("SGSLAM_MODEL_DIR");
-  const std::optional<std::string> saved = old ? std::optional<std::string>(old) : std::nullopt;
-  unsetenv("SGSLAM_MODEL_DIR");
-  ExpectInputErrorNaming([&] { DnnDetector d{DetectorConfig{}}; }, "SGSLAM_MODEL_DIR");
-  ExpectInputErrorNaming([&] { DnnDetector d{DetectorConfig{}}; }, "model_dir");
-  if (saved) setenv("SGSLAM_MODEL_DIR", saved->c_str(), 1);
+// With no folder configured and no $SGSLAM_MODEL_DIR, the models that ship with
+// sgslam are used, found beside the executable (here build/share/sgslam).
+TEST(DnnDetector, DefaultsToTheShippedModels) {
+  ScopedEnv no_env("SGSLAM_MODEL_DIR", std::nullopt);
+  const fs::path dir = ResolveModelDir("");
+  EXPECT_EQ(dir, DefaultModelDir());
+  EXPECT_EQ(dir.filename(), kDefaultModelFolder);
+  EXPECT_EQ(dir.parent_path().parent_path().filename(), "sgslam") << dir;  // <...>/share/sgslam/models/<folder>
+  DnnDetector detector{DetectorConfig{}};
+  EXPECT_NE(detector.Describe().find((dir / "yolo-fastest-1.1.cfg").string()), std::string::npos)
+      << detector.Describe();
+}
+
+TEST(DnnDetector, EnvironmentAndConfigComeBeforeTheDefault) {
+  test::TempDir tmp;
+  {
+    ScopedEnv env("SGSLAM_MODEL_DIR", tmp.path().string());
+    EXPECT_EQ(ResolveModelDir(""), tmp.path());
+    EXPECT_EQ(ResolveModelDir(kModelDir.string()), kModelDir);
+  }
+  ScopedEnv env("SGSLAM_MODEL_DIR", (tmp / "absent").string());
+  ExpectInputErrorNaming([&] { ResolveModelDir(""); }, "SGSLAM_MODEL_DIR");
+  ExpectInputErrorNaming([&] { ResolveModelDir(""); }, (tmp / "absent").string());
+}
+
+// A folder with a SHA256SUMS list refuses a file that does not match it.
+TEST(DnnDetector, ChecksumMismatchNamesTheFile) {
+  const fs::path& dir = kModelDir;
+  test::TempDir tmp;
+  for (const char* f : {"yolo-fastest-1.1.cfg", "yolo-fastest-1.1.weights", "coco.names", "SHA256SUMS"}) {
+    fs::copy_file(dir / f, tmp / f);
+  }
+  { DnnDetector intact(ConfigFor(tmp.path())); }
+  // One weight changed: the size check cannot see it, the checksum does.
+  {
+    std::fstream weights(tmp / "yolo-fastest-1.1.weights", std::ios::in | std::ios::out | std::ios::binary);
+    weights.seekp(1000);
+    weights.put('\x7f');
+  }
+  ExpectInputErrorNaming([&] { DnnDetector d(ConfigFor(tmp.path())); }, (tmp / "yolo-fastest-1.1.weights").string());
+  ExpectInputErrorNaming([&] { DnnDetector d(ConfigFor(tmp.path())); }, "checksum");
+  fs::copy_file(dir / "yolo-fastest-1.1.weights", tmp / "yolo-fastest-1.1.weights", fs::copy_options::overwrite_existing);
+  test::WriteText(tmp / "coco.names", "person\n");
+  ExpectInputErrorNaming([&] { DnnDetector d(ConfigFor(tmp.path())); }, (tmp / "coco.names").string());
+  // A malformed list is an error naming its line.
+  fs::copy_file(dir / "coco.names", tmp / "coco.names", fs::copy_options::overwrite_existing);
+  test::WriteText(tmp / "SHA256SUMS", "not a checksum line\n");
+  ExpectInputErrorNaming([&] { DnnDetector d(ConfigFor(tmp.path())); }, (tmp / "SHA256SUMS").string() + ":1");
+  // Without a list the files are loaded unchecked (a user's own model).
+  fs::remove(tmp / "SHA256SUMS");
+  { DnnDetector unchecked(ConfigFor(tmp.path())); }
 }
 
 }  // namespace

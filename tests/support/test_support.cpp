@@ -57,9 +57,15 @@ static std::string Quote(const std::string& s) {
   return out + "'";
 }
 
+std::string ShellQuote(const std::string& s) { return Quote(s); }
+
 CommandResult RunSgslam(const std::vector<std::string>& args) {
   std::string cmd = Quote(SGSLAM_BINARY);
   for (const auto& a : args) cmd += " " + Quote(a);
+  return RunShell(cmd);
+}
+
+CommandResult RunShell(std::string cmd) {
   cmd += " 2>&1 </dev/null";
   CommandResult result;
   FILE* pipe = popen(cmd.c_str(), "r");

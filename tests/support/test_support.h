@@ -35,6 +35,10 @@ struct CommandResult {
 };
 // Runs the built sgslam binary with the arguments (shell-quoted here).
 CommandResult RunSgslam(const std::vector<std::string>& args);
+// Runs a shell command line (sh -c), stdin from /dev/null.
+CommandResult RunShell(std::string command);
+// s in single quotes for sh.
+std::string ShellQuote(const std::string& s);
 
 void WriteText(const std::filesystem::path& path, const std::string& text);
 

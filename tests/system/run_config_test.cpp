@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "sgslam/camera/presets.h"
+#include "sgslam/common/error.h"
 #include "sgslam/synth/writer.h"
 #include "support/test_support.h"
 
@@ -82,6 +83,29 @@ TEST(RunConfig, TheShippedTumFr1ConfigMatchesThePreset) {
   const RunConfig rc = ResolveRunConfig(test::SourceDir() / "configs" / "tum_fr1.yaml", "/nonexistent/x");
   EXPECT_DOUBLE_EQ(rc.config.camera.readout, CameraPreset("tum_fr1")->readout);
   EXPECT_DOUBLE_EQ(rc.config.camera.fx, CameraPreset("tum_fr1")->fx);
+}
+
+// --config NAME: the configs that ship with sgslam, found beside the executable
+// (the test's own: build/tests -> build/share/sgslam), when NAME is no file here.
+TEST(RunConfig, AShippedConfigIsFoundByName) {
+  for (const char* name : {"bonn", "tum_fr3.yaml"}) {
+    const fs::path path = ResolveConfigPath(name);
+    EXPECT_TRUE(fs::is_regular_file(path)) << path;
+    EXPECT_EQ(path.parent_path().filename(), "configs") << path;
+  }
+  test::TempDir tmp;
+  const RunConfig rc = ResolveRunConfig(fs::path("bonn"), tmp.path());
+  EXPECT_DOUBLE_EQ(rc.config.camera.fx, CameraPreset("bonn")->fx);
+  // A file of that name in the working directory or a path is taken as it is.
+  EXPECT_EQ(ResolveConfigPath(tmp / "bonn"), tmp / "bonn");
+  try {
+    ResolveConfigPath("tum_fr9");
+    ADD_FAILURE() << "no error for an unknown config name";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("tum_fr9"), std::string::npos) << what;
+    EXPECT_NE(what.find("bonn"), std::string::npos) << "lists the shipped names: " << what;
+  }
 }
 
 }  // namespace

@@ -4,9 +4,12 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <sstream>
 
+#include "sgslam/common/data_dir.h"
 #include "sgslam/common/error.h"
+#include "sgslam/common/sha256.h"
 
 namespace sgslam {
 
@@ -85,23 +88,48 @@ void CheckWeightsSize(const cv::dnn::Net& net, const std::string& weights, const
   }
 }
 
+// A folder with a SHA256SUMS list (the shipped models have one) vouches for the
+// files it lists: a file that does not match is refused, naming it.
+void CheckListedSum(const fs::path& file, const std::string& bytes, const std::map<std::string, std::string>& sums) {
+  const auto it = sums.find(file.filename().string());
+  if (it == sums.end()) return;
+  if (const std::string actual = Sha256Hex(bytes); actual != it->second) {
+    throw InputError("checksum mismatch: " + file.string() + " has SHA-256 " + actual + ", " +
+                     (file.parent_path() / "SHA256SUMS").string() + " lists " + it->second +
+                     " (a damaged or replaced file)");
+  }
+}
+
 }  // namespace
+
+fs::path DefaultModelDir() {
+  const auto data = DataDir();
+  return data ? *data / "models" / kDefaultModelFolder : fs::path();
+}
 
 fs::path ResolveModelDir(const std::string& model_dir) {
   fs::path dir = model_dir;
+  const char* how = "detector.model_dir / --model";
   if (dir.empty()) {
-    const char* env = std::getenv("SGSLAM_MODEL_DIR");
-    if (env == nullptr || *env == '\0') {
-      throw InputError(
-          "no detector model folder: set detector.model_dir in the config, pass --model DIR, or set the "
-          "environment variable SGSLAM_MODEL_DIR (e.g. export "
-          "SGSLAM_MODEL_DIR=../shared/models/yolo-fastest-1.1-coco); or run geometry-only with --no-detector "
-          "or --mode geometric");
+    if (const char* env = std::getenv("SGSLAM_MODEL_DIR"); env != nullptr && *env != '\0') {
+      dir = env;
+      how = "$SGSLAM_MODEL_DIR";
     }
-    dir = env;
+  }
+  if (dir.empty()) {
+    dir = DefaultModelDir();
+    how = "the models installed with sgslam";
+    if (dir.empty()) {
+      throw InputError(
+          "no detector model folder: sgslam's own models/ were not found beside the executable (share/sgslam); "
+          "pass --model DIR, set detector.model_dir in the config or the environment variable SGSLAM_MODEL_DIR, "
+          "or run geometry-only with --no-detector or --mode geometric");
+    }
   }
   std::error_code ec;
-  if (!fs::is_directory(dir, ec)) throw InputError("detector model folder not found: " + dir.string());
+  if (!fs::is_directory(dir, ec)) {
+    throw InputError(std::string("detector model folder not found (from ") + how + "): " + dir.string());
+  }
   return dir;
 }
 
@@ -120,7 +148,15 @@ DarknetModel LoadDarknetModel(const fs::path& dir, const std::string& model, flo
   const fs::path names_file = dir / "coco.names";
   const std::string cfg_text = ReadWholeFile(m.cfg, "model cfg file");
   const std::string weights = ReadWholeFile(m.weights, "model weights file");
-  m.class_names = ParseNames(ReadWholeFile(names_file, "class names file"));
+  const std::string names = ReadWholeFile(names_file, "class names file");
+  std::error_code ec;
+  if (const fs::path sums_file = dir / "SHA256SUMS"; fs::is_regular_file(sums_file, ec)) {
+    const auto sums = ReadSha256Sums(sums_file);
+    CheckListedSum(m.cfg, cfg_text, sums);
+    CheckListedSum(m.weights, weights, sums);
+    CheckListedSum(names_file, names, sums);
+  }
+  m.class_names = ParseNames(names);
   int classes = 0;
   const std::string cfg = SetYoloThreshold(cfg_text, score_floor, classes);
   if (cfg_text.find("[net]") == std::string::npos || classes <= 0) {

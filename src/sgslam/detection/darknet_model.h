@@ -12,8 +12,14 @@
 
 namespace sgslam {
 
-// The folder itself: model_dir, else $SGSLAM_MODEL_DIR. Throws InputError when
-// neither is set (saying how to set one) or the folder does not exist.
+// The folder of the models that ship with sgslam, under DataDir() (common/data_dir.h).
+inline constexpr const char* kDefaultModelFolder = "yolo-fastest-1.1-coco";
+// <DataDir()>/models/yolo-fastest-1.1-coco; empty when DataDir() is not found.
+std::filesystem::path DefaultModelDir();
+
+// The model folder: model_dir, else $SGSLAM_MODEL_DIR, else DefaultModelDir().
+// Throws InputError when none is found (saying how to give one) or the folder
+// does not exist.
 std::filesystem::path ResolveModelDir(const std::string& model_dir);
 
 // <dir>/<model>.cfg and <dir>/<model>.weights, the files LoadDarknetModel reads.
@@ -31,8 +37,9 @@ struct DarknetModel {
 // score_floor: OpenCV's [yolo] layer zeroes every class score <= its "thresh"
 // parameter, 0.2 unless the cfg sets one, which would hide persons scored below
 // 0.2; the cfg text is given thresh = score_floor before parsing. Throws
-// InputError naming a missing file, a file OpenCV cannot parse, or weights that do
-// not fit the cfg.
+// InputError naming a missing file, a file whose checksum does not match the
+// folder's SHA256SUMS (when it has one), a file OpenCV cannot parse, or weights
+// that do not fit the cfg.
 DarknetModel LoadDarknetModel(const std::filesystem::path& dir, const std::string& model, float score_floor);
 
 }  // namespace sgslam

@@ -15,7 +15,7 @@ std::map<std::string, double> DefaultDynamicWeights();
 
 struct DetectorConfig {
   std::string backend = "dnn";             // dnn: OpenCV dnn network | file: replay a detections file | none
-  std::string model_dir;                   // folder with <model>.cfg/.weights and coco.names; empty: $SGSLAM_MODEL_DIR
+  std::string model_dir;                   // folder with <model>.cfg/.weights and coco.names; empty: $SGSLAM_MODEL_DIR, else the models shipped with sgslam
   std::string model = "yolo-fastest-1.1";  // Darknet file stem: yolo-fastest-1.1 | yolo-fastest-1.1-xl
   int input_size = 320;                    // px, network input side (the models were trained at 320)
   double score_threshold = 0.4;            // objectness * class probability, classes other than person
@@ -31,7 +31,7 @@ struct DetectorConfig {
   template <class V>
   void Visit(V&& v) {
     v("backend", backend, "dnn | file | none");
-    v("model_dir", model_dir, "folder of the Darknet model; empty: $SGSLAM_MODEL_DIR");
+    v("model_dir", model_dir, "folder of the Darknet model; empty: $SGSLAM_MODEL_DIR, else the shipped models");
     v("model", model, "yolo-fastest-1.1 | yolo-fastest-1.1-xl");
     v("input_size", input_size, "px, network input side, multiple of 32");
     v("score_threshold", score_threshold, "objectness * class probability, non-person classes");

@@ -3,17 +3,36 @@
 #include <spdlog/spdlog.h>
 
 #include "sgslam/camera/presets.h"
+#include "sgslam/common/data_dir.h"
+#include "sgslam/common/error.h"
 #include "sgslam/config/yaml_io.h"
 
 namespace sgslam {
 
 namespace fs = std::filesystem;
 
+fs::path ResolveConfigPath(const fs::path& config) {
+  std::error_code ec;
+  if (fs::exists(config, ec) || config.has_parent_path()) return config;
+  const auto data = DataDir();
+  if (!data) return config;
+  fs::path shipped = *data / "configs" / config;
+  if (!shipped.has_extension()) shipped += ".yaml";
+  if (fs::is_regular_file(shipped, ec)) return shipped;
+  std::string names;
+  for (const auto& entry : fs::directory_iterator(*data / "configs", ec)) {
+    if (entry.path().extension() == ".yaml") names += (names.empty() ? "" : ", ") + entry.path().stem().string();
+  }
+  throw InputError("config file not found: " + config.string() + " (neither a file nor one of the configs shipped in " +
+                   (*data / "configs").string() + ": " + names + ")");
+}
+
 RunConfig ResolveRunConfig(const std::optional<fs::path>& config_file, const fs::path& dataset_dir) {
   RunConfig out;
   std::error_code ec;
   const fs::path local = dataset_dir / "sgslam.yaml";
-  std::optional<fs::path> file = config_file;
+  std::optional<fs::path> file;
+  if (config_file) file = ResolveConfigPath(*config_file);
   if (!file && fs::is_regular_file(local, ec)) file = local;
   const std::optional<std::string> preset = CameraPresetForFolder(dataset_dir);
   // A file with a camera section describes the camera (keys it omits keep their

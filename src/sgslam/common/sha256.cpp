@@ -1,0 +1,50 @@
+#include "sgslam/common/sha256.h"
+
+#include <openssl/evp.h>
+
+#include <array>
+#include <cctype>
+#include <fstream>
+
+#include "sgslam/common/error.h"
+
+namespace sgslam {
+
+std::string Sha256Hex(std::string_view bytes) {
+  std::array<unsigned char, EVP_MAX_MD_SIZE> digest{};
+  unsigned int length = 0;
+  if (EVP_Digest(bytes.data(), bytes.size(), digest.data(), &length, EVP_sha256(), nullptr) != 1) {
+    throw Error("OpenSSL could not compute a SHA-256 digest");
+  }
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string hex;
+  hex.reserve(2 * length);
+  for (unsigned int i = 0; i < length; ++i) {
+    hex += kHex[digest[i] >> 4];
+    hex += kHex[digest[i] & 15];
+  }
+  return hex;
+}
+
+std::map<std::string, std::string> ReadSha256Sums(const std::filesystem::path& sums_file) {
+  std::ifstream in(sums_file);
+  if (!in) throw InputError("cannot read checksum list " + sums_file.string());
+  std::map<std::string, std::string> sums;
+  std::string line;
+  for (int number = 1; std::getline(in, line); ++number) {
+    if (line.empty() || line[0] == '#') continue;
+    // "<digest>  <name>" (text mode) or "<digest> *<name>" (binary mode).
+    const bool ok = line.size() > 66 && line[64] == ' ' && (line[65] == ' ' || line[65] == '*');
+    std::string digest = ok ? line.substr(0, 64) : std::string();
+    bool hex = ok;
+    for (char& c : digest) {
+      c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      hex = hex && std::isxdigit(static_cast<unsigned char>(c));
+    }
+    if (!hex) throw ParseError(sums_file.string(), number, "expected '<64 hex digits>  <file name>'");
+    sums[line.substr(66)] = digest;
+  }
+  return sums;
+}
+
+}  // namespace sgslam

@@ -1,0 +1,19 @@
+// SHA-256 of a byte string (OpenSSL), and checking files against a SHA256SUMS
+// list in the format sha256sum writes ("<64 hex digits>  <file name>").
+#pragma once
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <string_view>
+
+namespace sgslam {
+
+// Lower-case hex digest.
+std::string Sha256Hex(std::string_view bytes);
+
+// File name -> digest, as listed in a SHA256SUMS file. Throws ParseError naming
+// the file and line of a malformed entry, InputError if it cannot be read.
+std::map<std::string, std::string> ReadSha256Sums(const std::filesystem::path& sums_file);
+
+}  // namespace sgslam
