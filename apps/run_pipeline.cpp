@@ -110,18 +110,6 @@ RunSummary RunSequence(const RunOptions& o) {
   }
   std::vector<FrameReport> reports;
   const eval::MaskIndex masks(dataset_dir);  // ground-truth dynamic masks, when the sequence has them
-  std::optional<eval::MaskIndex> truth_masks;  // dynamic.truth_masks: masks that replace the verdicts
-  bool truth_scores = false;                   // ... and are the dataset's own: score with the loaded mask
-  if (!config.dynamic.truth_masks.empty()) {
-    truth_masks.emplace(config.dynamic.truth_masks);
-    if (truth_masks->empty()) {
-      throw InputError("dynamic.truth_masks = " + config.dynamic.truth_masks + ": no mask.txt there");
-    }
-    std::error_code same_ec;
-    truth_scores = fs::equivalent(config.dynamic.truth_masks, dataset_dir, same_ec);
-    spdlog::warn("dynamic.truth_masks: ground-truth masks from {} replace the {} verdicts (evaluation only)",
-                 config.dynamic.truth_masks, config.dynamic.mode);
-  }
   eval::MaskScore truth;
   std::string failure;
   Stopwatch wall;
@@ -138,16 +126,9 @@ RunSummary RunSequence(const RunOptions& o) {
           std::this_thread::sleep_until(start + std::chrono::nanoseconds(frame->t - t_first));
         }
         if (reports.empty()) CheckDepthScale(*frame, dataset.frames()[frame->index], config.camera, config.dataset);
-        if (truth_masks) {
-          auto mask = truth_masks->Load(frame->t);
-          if (!mask) throw InputError("dynamic.truth_masks: no mask for the frame at " + FormatTimestamp(frame->t));
-          frame->truth_mask = std::move(*mask);
-        }
         reports.push_back(system.Process(*frame));
         FrameReport& r = reports.back();
-        if (truth_scores) {  // the same file: read once per frame
-          truth.Add(eval::ScoreKeypoints(frame->truth_mask, r.keypoints, r.rejected));
-        } else if (auto mask = masks.Load(r.t)) {
+        if (auto mask = masks.Load(r.t)) {
           truth.Add(eval::ScoreKeypoints(*mask, r.keypoints, r.rejected));
         }
         r.keypoints = {};  // keep the per-frame record small
@@ -299,7 +280,6 @@ RunSummary RunSequence(const RunOptions& o) {
                         {"detector_processed", d.processed},
                         {"detector_dropped", d.dropped},
                         {"detector_errors", d.errors}};
-    if (truth_masks) stats["dynamic"]["truth_masks"] = config.dynamic.truth_masks;
   }
   if (truth.frames > 0) {
     stats["dynamic"]["truth"] = {{"frames", truth.frames},

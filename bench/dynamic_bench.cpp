@@ -85,22 +85,6 @@ void BM_LkFlowPrebuiltPyramids(benchmark::State& state) {
   for (auto _ : state) benchmark::DoNotOptimize(TrackBackward(prev, cur, pts, c));
 }
 
-// dynamic.lk_predict: LK from the motion model's prediction (here the true motion)
-// with one level above the image and the 40-keypoint probe, against the line above.
-void BM_LkFlowPredicted(benchmark::State& state) {
-  const Data& d = Get();
-  DynamicConfig c;
-  c.lk_predict = true;
-  std::vector<cv::Point2f> pts;
-  for (const cv::KeyPoint& k : d.keys) pts.push_back(k.pt);
-  const FlowFrame prev{d.prev, BuildFlowPyramid(d.prev, c)}, cur{d.cur, BuildFlowPyramid(d.cur, c)};
-  const FlowPrediction prediction{d.depth.cur_depth, 1.0, d.depth.K, d.depth.T_cur_prev};
-  for (auto _ : state) {
-    const std::vector<cv::Point2f> guess = PredictPrevious(pts, pts, prediction, c.depth_min, c.depth_max);
-    benchmark::DoNotOptimize(TrackBackward(prev, cur, pts, c, &guess));
-  }
-}
-
 void BM_BuildFlowPyramid(benchmark::State& state) {
   const Data& d = Get();
   const DynamicConfig c;
@@ -112,7 +96,6 @@ BENCHMARK(BM_RejectSgReusedPyramid)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_RejectSgDepthCheck)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_LkFlow)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_LkFlowPrebuiltPyramids)->Unit(benchmark::kMillisecond);
-BENCHMARK(BM_LkFlowPredicted)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_BuildFlowPyramid)->Unit(benchmark::kMillisecond);
 
 }  // namespace

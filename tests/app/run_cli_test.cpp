@@ -75,37 +75,6 @@ TEST(RunCommand, RealtimePacesFramesByTheirTimestamps) {
   EXPECT_LE(stats["fps"].get<double>(), 10.0 / 0.3 + 1e-6);
 }
 
-// dynamic.truth_masks (evaluation): the ground-truth masks replace the verdicts,
-// so the rejection scores exactly against the same masks; a folder without
-// masks is refused by name.
-TEST(RunCommand, TruthMasksReplaceTheVerdicts) {
-  TempDir tmp;
-  const auto synth = RunSgslam({"synth", "--preset", "walkers", "--frames", "12", "--out", (tmp / "walk").string()});
-  ASSERT_EQ(synth.exit_code, 0) << synth.output;
-  {
-    std::ofstream y(tmp / "truth.yaml");
-    y << "dynamic:\n  truth_masks: " << (tmp / "walk").string() << "\n";
-  }
-  const auto r = RunSgslam({"run", "--dataset", (tmp / "walk").string(), "--out", (tmp / "out").string(), "--mode",
-                            "none", "--sequential", "--config", (tmp / "truth.yaml").string()});
-  ASSERT_EQ(r.exit_code, 0) << r.output;
-  std::ifstream stats_file(tmp / "out" / "stats.json");
-  const auto stats = nlohmann::json::parse(stats_file);
-  const auto& truth = stats["dynamic"]["truth"];
-  ASSERT_GT(truth["moving_keypoints"].get<int>(), 0);  // the walkers are in view
-  EXPECT_EQ(truth["moving_rejected"], truth["moving_keypoints"]);
-  EXPECT_EQ(truth["static_rejected"], 0);
-  EXPECT_EQ(stats["dynamic"]["truth_masks"], (tmp / "walk").string());
-
-  {
-    std::ofstream y(tmp / "bad.yaml");
-    y << "dynamic:\n  truth_masks: " << (tmp / "nowhere").string() << "\n";
-  }
-  ExpectFailure({"run", "--dataset", (tmp / "walk").string(), "--out", (tmp / "out2").string(), "--mode", "none",
-                 "--config", (tmp / "bad.yaml").string()},
-                1, {"dynamic.truth_masks", "nowhere"});
-}
-
 // A run with a detector saves the boxes it got as detections.txt, in the format of
 // the file backend, so a later run (or another tool) can replay them; frames.csv
 // counts them and the boxes carried over missed frames apart.

@@ -88,22 +88,5 @@ TEST(Flow, PatchDifferenceIgnoresExposure) {
   EXPECT_GT(PatchDifference(a, {200.f, 200.f}, a, {260.f, 150.f}, 2), 5.0);  // another place
 }
 
-TEST(Flow, ForwardCheckFindsPairsThatDoNotTrackBack) {
-  // Pairs from the true shift track back onto their keypoints; pairs whose previous
-  // position is 6 px off (a backward flow that settled on the wrong place) do not.
-  const cv::Mat cur = Texture(6);
-  const cv::Point2f shift(4.0f, -3.0f);
-  const cv::Mat prev = Shifted(cur, shift);
-  const std::vector<cv::Point2f> pts = Grid(50, 60);
-  std::vector<cv::Point2f> prev_pts;
-  for (std::size_t i = 0; i < pts.size(); ++i) {
-    prev_pts.push_back(pts[i] + shift + (i % 2 ? cv::Point2f(6.0f, 0.0f) : cv::Point2f(0.0f, 0.0f)));
-  }
-  const std::vector<bool> ok = ForwardConsistent(FlowFrame{prev, {}}, FlowFrame{cur, {}}, prev_pts, pts, DynamicConfig{}, 1.0);
-  ASSERT_EQ(ok.size(), pts.size());
-  for (std::size_t i = 0; i < pts.size(); ++i) EXPECT_EQ(ok[i], i % 2 == 0) << i;
-  EXPECT_TRUE(ForwardConsistent(FlowFrame{prev, {}}, FlowFrame{cur, {}}, {}, {}, DynamicConfig{}, 1.0).empty());
-}
-
 }  // namespace
 }  // namespace sgslam::dynamic

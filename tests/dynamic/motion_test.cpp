@@ -163,8 +163,7 @@ TEST(Motion, DepthCheckWithPnpMotionCatchesMoversOnTheFr1Lens) {
   c.mode = "geometric";
   c.eps_std = 1e3;  // the epipolar test off: the RGB-D check alone
   c.depth_check = true;
-  c.depth_motion = "pnp";
-  DepthCheckInput depth{s.prev_depth, s.cur_depth, 1.0, s.K, SE3(), {}};  // no tracker pose
+  DepthCheckInput depth{s.prev_depth, s.cur_depth, 1.0, s.K, SE3(), {}};  // the motion comes from PnP
   const RejectionResult r = JudgePairs(Pairs(s, true), Keys(s), {}, {}, c, &depth);
   ASSERT_TRUE(r.motion);
   const Tally t = Count(s, r);
@@ -173,26 +172,17 @@ TEST(Motion, DepthCheckWithPnpMotionCatchesMoversOnTheFr1Lens) {
   EXPECT_GE(t.moving_rejected, 90);  // 3 cm at 1-5 m: 3-15 px, above the 3 px tolerance
   EXPECT_EQ(t.static_rejected, 0);
   EXPECT_FALSE(r.depth_ignored);
-  // The tracker's pose instead (here the identity, a bad prediction): every
-  // reprojection residual is large, so the tolerance that follows the frame's
-  // median level flags no static point...
-  c.depth_motion = "tracker";
-  c.mode = "sg";  // the median level is used in sg only (no boxes here: the same test)
-  const RejectionResult level = JudgePairs(Pairs(s, true), Keys(s), {}, {}, c, &depth);
-  std::printf("identity motion, median-level tolerance: %d of %d static rejected\n", Count(s, level).static_rejected,
-              t.statics);
-  EXPECT_EQ(Count(s, level).static_rejected, 0);
-  // ... and with the fixed tolerance alone (geometric mode) the check would flag
-  // nearly everything, so it is ignored for the frame...
-  c.mode = "geometric";
-  const RejectionResult bad = JudgePairs(Pairs(s, true), Keys(s), {}, {}, c, &depth);
-  EXPECT_FALSE(bad.motion);
+  // A previous depth 1.5 times too far (a wrong depth scale) makes every point's
+  // predicted depth wrong: a check that flags most of the frame is ignored for it...
+  DepthCheckInput scaled = depth;
+  scaled.prev_depth = s.prev_depth * 1.5;
+  const RejectionResult bad = JudgePairs(Pairs(s, true), Keys(s), {}, {}, c, &scaled);
   EXPECT_TRUE(bad.depth_ignored);
   EXPECT_EQ(Count(s, bad).static_rejected, 0);
   EXPECT_EQ(bad.rejected_depth, 0);
   // ... unless the share limit is lifted.
   c.depth_max_share = 1.0;
-  const RejectionResult trusted = JudgePairs(Pairs(s, true), Keys(s), {}, {}, c, &depth);
+  const RejectionResult trusted = JudgePairs(Pairs(s, true), Keys(s), {}, {}, c, &scaled);
   EXPECT_FALSE(trusted.depth_ignored);
   EXPECT_GT(Count(s, trusted).static_rejected, 200);
 }
@@ -261,7 +251,6 @@ TEST(Motion, StaticPointsTheRgbdCheckConfirmsAreJudgedWithoutTheBoxWeight) {
   DynamicConfig c;
   c.mode = "sg";
   c.depth_check = true;
-  c.depth_motion = "pnp";
   c.box_depth_band = 0;  // every keypoint in the box is weighted
   const DepthCheckInput depth{s.prev_depth, s.cur_depth, 1.0, s.K, SE3(), {}};
   const std::vector<Detection> box = {Detection{0, "person", 0.9f, cv::Rect2f(0, 0, 320, 480)}};
@@ -354,7 +343,6 @@ TEST(Motion, TrackPairsUndistortsBothPositions) {
 
 TEST(Motion, ConfigChecksTheNewKeys) {
   DynamicConfig bad;
-  bad.depth_motion = "imu";
   bad.prior_cell = -1;
   bad.depth_max_share = 1.5;
   bad.prior_memory = 0;
@@ -362,7 +350,7 @@ TEST(Motion, ConfigChecksTheNewKeys) {
   bad.depth_check_window = 9;
   ConfigChecker c("dynamic");
   bad.Validate(c);
-  EXPECT_EQ(c.problems().size(), 6u);
+  EXPECT_EQ(c.problems().size(), 5u);
 }
 
 }  // namespace

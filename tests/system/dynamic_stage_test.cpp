@@ -36,7 +36,7 @@ struct Tally {
   bool labels_consistent = true;  // one unjudged flag per keypoint, never on a rejected one
 };
 
-Tally RunWalkers(int carry_frames, bool predict = false, double forward_check = 0.0) {
+Tally RunWalkers(int carry_frames) {
   constexpr int kFirst = 30, kFrames = 24;
   const synth::SynthSequence& seq = dynamic::test::Sequence("walkers");
   Config config;
@@ -47,8 +47,6 @@ Tally RunWalkers(int carry_frames, bool predict = false, double forward_check = 
   config.dynamic.mode = "sg";
   config.dynamic.carry_frames = carry_frames;
   config.dynamic.depth_check = false;  // the epipolar test and the boxes only
-  config.dynamic.lk_predict = predict;
-  config.dynamic.forward_check = forward_check;
   std::map<Timestamp, std::vector<Detection>> boxes;
   for (int i = kFirst; i < kFirst + kFrames; i += 2) {
     const synth::RenderedFrame& f = dynamic::test::Frame("walkers", i);
@@ -58,14 +56,11 @@ Tally RunWalkers(int carry_frames, bool predict = false, double forward_check = 
   Tally tally;
   for (int i = kFirst; i < kFirst + kFrames; ++i) {
     const synth::RenderedFrame& f = dynamic::test::Frame("walkers", i);
-    // With predict, the true motion stands in for the tracker's motion model.
-    std::optional<SE3> motion;
-    if (predict) motion = f.T_w_c.Inverse() * dynamic::test::Frame("walkers", i - 1).T_w_c;
     cv::Mat gray;
     cv::cvtColor(f.bgr, gray, cv::COLOR_BGR2GRAY);
     const std::vector<cv::KeyPoint> keys = dynamic::test::DetectKeypoints(gray);
     stage.Submit(static_cast<std::uint64_t>(i), f.t, f.bgr);
-    const DynamicOutcome out = stage.Label(static_cast<std::uint64_t>(i), gray, f.depth_raw, keys, motion);
+    const DynamicOutcome out = stage.Label(static_cast<std::uint64_t>(i), gray, f.depth_raw, keys);
     if (i > kFirst) {
       tally.labels_consistent = tally.labels_consistent && out.unjudged.size() == keys.size();
       for (std::size_t k = 0; k < out.unjudged.size() && k < keys.size(); ++k) {
@@ -101,35 +96,6 @@ TEST(DynamicStage, BoxesOfWalkersTheDetectorMissedAreCarriedIntoTheFrame) {
   // The carried boxes cost what a detected box costs: static background inside a
   // box is judged at eps / w (measured 2.5 % lost without, 5.3 % with).
   EXPECT_LE(share(on.still_rejected, on.still), 0.10);
-}
-
-TEST(DynamicStage, LkStartedAtTheMotionPredictionJudgesTheWalkersAlike) {
-  // dynamic.lk_predict: one pyramid level above the image from the predicted
-  // position instead of three from the keypoint; the verdicts must not suffer.
-  const Tally base = RunWalkers(3), predicted = RunWalkers(3, true);
-  const auto share = [](int a, int b) { return b > 0 ? static_cast<double>(a) / b : 0.0; };
-  std::printf("missed frames, LK from the keypoint: recall %.3f, static lost %.3f; from the prediction: %.3f, %.3f\n",
-              share(base.moving_rejected, base.moving), share(base.still_rejected, base.still),
-              share(predicted.moving_rejected, predicted.moving), share(predicted.still_rejected, predicted.still));
-  EXPECT_TRUE(predicted.labels_consistent);
-  ASSERT_GT(predicted.moving, 200);
-  EXPECT_GT(share(predicted.moving_rejected, predicted.moving), share(base.moving_rejected, base.moving) - 0.03);
-  EXPECT_LE(share(predicted.still_rejected, predicted.still), share(base.still_rejected, base.still) + 0.02);
-}
-
-TEST(DynamicStage, TheForwardCheckKeepsOnlyKeypointsWhoseFlowDoesNotTrackBack) {
-  // dynamic.forward_check: rejected keypoints outside the boxes whose pair does not
-  // track forward onto them are kept untested; the rest of the verdicts stand.
-  const Tally base = RunWalkers(3), checked = RunWalkers(3, false, 1.0);
-  const auto share = [](int a, int b) { return b > 0 ? static_cast<double>(a) / b : 0.0; };
-  std::printf("missed frames, no forward check: recall %.3f, static lost %.3f, %d untested; 1 px: %.3f, %.3f, %d\n",
-              share(base.moving_rejected, base.moving), share(base.still_rejected, base.still), base.unjudged,
-              share(checked.moving_rejected, checked.moving), share(checked.still_rejected, checked.still),
-              checked.unjudged);
-  EXPECT_TRUE(checked.labels_consistent);
-  EXPECT_GE(checked.unjudged, base.unjudged);
-  EXPECT_LE(checked.still_rejected, base.still_rejected);
-  EXPECT_GT(share(checked.moving_rejected, checked.moving), share(base.moving_rejected, base.moving) - 0.05);
 }
 
 }  // namespace

@@ -34,27 +34,49 @@ struct Outcome {
   std::optional<MappingStats> final_ba;
 };
 
+// Person boxes over all but the top-left 120x90 px of the first n frames of dir,
+// in a detections file at `file` (three boxes, each under dynamic.max_box_area).
+void WriteCoveringBoxes(const fs::path& dir, std::size_t n, const fs::path& file) {
+  std::ifstream rgb(dir / "rgb.txt");
+  std::ofstream det(file);
+  std::string line;
+  for (std::size_t i = 0; i < n && std::getline(rgb, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    const std::string t = line.substr(0, line.find(' '));
+    det << t << " 0 0.9 120 0 640 240 person\n"
+        << t << " 0 0.9 120 240 640 480 person\n"
+        << t << " 0 0.9 0 90 120 480 person\n";
+    ++i;
+  }
+}
+
 // blank: frames [first, last) arrive black and without depth (a covered lens).
-// covered: the first `covered` frames have all but their top-left 120x90 px
-// marked moving (dynamic.truth_masks' path), as a frame whose false-positive
-// boxes cover nearly everything would be.
+// covered: the first `covered` frames have person boxes over all but their
+// top-left 120x90 px (mode semantic, no fallback), as a frame whose
+// false-positive boxes cover nearly everything would be.
 Outcome RunOn(const fs::path& dir, bool sequential, std::pair<std::size_t, std::size_t> blank = {0, 0},
               std::size_t covered = 0, std::vector<TrackState>* states = nullptr,
               const std::function<void(Config&)>& tweak = {}) {
   RunConfig rc = ResolveRunConfig(std::nullopt, dir);
   if (tweak) tweak(rc.config);
+  std::unique_ptr<Detector> detector;
+  test::TempDir boxes;
+  if (covered > 0) {
+    WriteCoveringBoxes(dir, covered, boxes / "covering.txt");
+    rc.config.dynamic.mode = "semantic";
+    rc.config.dynamic.min_kept_ratio = 0;
+    rc.config.detector.backend = "file";
+    rc.config.detector.detections_file = (boxes / "covering.txt").string();
+    detector = MakeDetector(rc.config.detector, dir);
+  }
   const TumDataset dataset(dir, rc.config.dataset);
-  SlamSystem system(rc.config, sequential);
+  SlamSystem system(rc.config, sequential, std::move(detector));
   FrameStream stream(dataset, rc.config.camera, 2);
   Outcome out;
   while (auto frame = stream.Next()) {
     if (frame->index >= blank.first && frame->index < blank.second) {
       frame->bgr = cv::Mat::zeros(frame->bgr.size(), frame->bgr.type());
       frame->depth = cv::Mat::zeros(frame->depth.size(), frame->depth.type());
-    }
-    if (frame->index < covered) {
-      frame->truth_mask = cv::Mat(frame->bgr.size(), CV_8UC1, cv::Scalar(255));
-      frame->truth_mask(cv::Rect(0, 0, 120, 90)).setTo(0);
     }
     const FrameReport r = system.Process(*frame);
     if (states) states->push_back(r.state);

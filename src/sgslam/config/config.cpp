@@ -71,7 +71,6 @@ void MappingConfig::Validate(ConfigChecker& c) const {
   c.InRange("redundant_ratio", redundant_ratio, 0.5, 1.0);
   c.InRange("queue_size", queue_size, 1, 100);
   c.InRange("busy_frames", busy_frames, 0, 1000);
-  c.InRange("nice", nice, 0, 19);
   c.InRange("final_ba_iterations", final_ba_iterations, 0, 1000);
 }
 

@@ -218,12 +218,6 @@ struct MappingConfig {
   // interrupts the BA, as ORB-SLAM2's InterruptBA does. Otherwise parallel runs
   // made 55-60 keyframes on fr1_rpy against 77 sequential, and lost accuracy.
   int busy_frames = 5;
-  // Linux nice value of the local mapping thread (0: as tracking). Tracking's
-  // latency is the real-time budget; mapping has the time between keyframes.
-  // fr1_rpy --mode none parallel, 4 interleaved pairs: nice 5 gave 21.3-24.3 ms a
-  // frame against 27.1-28.1 ms at 0, but ATE 0.0189-0.0263 m against 0.0175-0.0211
-  // (a mapper that lags gives tracking fewer fresh points): off until that is fixed.
-  int nice = 0;
   // One bundle adjustment of the whole map when the sequence ends (what ORB-SLAM2
   // runs after a loop closure), iterations per stage; 0: off. fr1_rpy --mode none
   // --sequential, ORB budgets 900-1100: ATE median 0.0232 -> 0.0215 m, no budget
@@ -245,7 +239,6 @@ struct MappingConfig {
     v("redundant_ratio", redundant_ratio, "share of points seen elsewhere to cull a keyframe");
     v("queue_size", queue_size, "keyframes queued for local mapping");
     v("busy_frames", busy_frames, "frames after a keyframe that mapping counts as busy; later keyframes interrupt its BA");
-    v("nice", nice, "Linux nice value of the local mapping thread, 0..19");
     v("final_ba_iterations", final_ba_iterations, "global BA iterations per stage when the sequence ends; 0: off");
   }
   void Validate(ConfigChecker& c) const;

@@ -9,12 +9,8 @@ void DynamicConfig::Validate(ConfigChecker& c) const {
   c.Check(lk_window >= 5 && lk_window <= 101 && lk_window % 2 == 1, "lk_window", lk_window,
           "must be odd and in [5, 101]");
   c.InRange("lk_levels", lk_levels, 0, 8);
-  c.InRange("lk_levels_predicted", lk_levels_predicted, 0, 8);
-  c.InRange("lk_probe", lk_probe, 0, 10000);
-  c.InRange("forward_check", forward_check, 0.0, 100.0);
   c.InRange("lk_iterations", lk_iterations, 1, 1000);
   c.InRange("lk_epsilon", lk_epsilon, 1e-6, 1.0);
-  c.InRange("lk_max_error", lk_max_error, 0.0, 255.0);
   c.InRange("border", border, 0.0, 200.0);
   c.InRange("patch_radius", patch_radius, 0, 10);
   c.InRange("max_patch_difference", max_patch_difference, 0.0, 255.0);
@@ -34,7 +30,6 @@ void DynamicConfig::Validate(ConfigChecker& c) const {
   c.InRange("prior_memory", prior_memory, 1, 255);
   c.InRange("depth_check_window", depth_check_window, 0, 5);
   c.InRange("confirm_static", confirm_static, 0.0, 1.0);
-  c.Check(depth_motion == "pnp" || depth_motion == "tracker", "depth_motion", depth_motion, "must be pnp or tracker");
   c.InRange("motion_threshold", motion_threshold, 0.1, 50.0);
   c.InRange("motion_iterations", motion_iterations, 10, 100000);
   c.InRange("motion_min_inliers", motion_min_inliers, 6, 100000);
@@ -43,14 +38,6 @@ void DynamicConfig::Validate(ConfigChecker& c) const {
   c.InRange("depth_tolerance_quadratic", depth_tolerance_quadratic, 0.0, 1.0);
   c.InRange("reprojection_tolerance", reprojection_tolerance, 0.0, 1000.0);
   c.InRange("reprojection_median_factor", reprojection_median_factor, 0.0, 100.0);
-  c.InRange("track_radius", track_radius, 0.1, 50.0);
-  c.InRange("track_min_age", track_min_age, 1, 1000);
-  c.Check(track_max_age >= track_min_age, "track_max_age", track_max_age, "must be >= track_min_age");
-  c.InRange("track_tolerance", track_tolerance, 0.0, 1000.0);
-  c.InRange("track_growth", track_growth, 0.0, 100.0);
-  c.InRange("track_fit_threshold", track_fit_threshold, 0.1, 50.0);
-  c.InRange("unjudged_radius", unjudged_radius, 0.0, 640.0);
-  c.InRange("unjudged_share", unjudged_share, 0.0, 1.0);
   c.Positive("depth_min", depth_min);
   c.Check(depth_max > depth_min, "depth_max", depth_max, "must be > depth_min");
 }

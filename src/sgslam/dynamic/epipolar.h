@@ -14,15 +14,6 @@
 // (modules/calib3d/src/ptsetreg.cpp) seeds its generator with RNG((uint64)-1) on
 // every call, so the same pairs in the same order give the same F; the points are
 // rounded to float and the winning model is a 7-point solution, not refitted.
-//
-// refine_fundamental adds a normalised 8-point least-squares refit on the inliers in
-// double (Hartley & Zisserman, Alg. 11.1): exact on noise-free pairs and closer to
-// the true F on noisy ones (static median d 0.075 vs 0.14 px). It is off by default
-// because it separates moving points worse: at a 30 Hz frame step the baseline is
-// about 1 cm, F is nearly degenerate, and the closer F is to the truth the more of a
-// sideways walker's motion lies along its epipolar line. Measured on 40 pairs, sg:
-// walkers at ~6 % static loss, recall 0.933 without (eps 1.5) vs 0.900 with the
-// refit (eps 1.0); degenerate at eps 1.0, recall 0.964 without vs 0.713 with.
 #pragma once
 
 #include <Eigen/Core>
@@ -48,10 +39,6 @@ struct FundamentalEstimate {
 std::optional<FundamentalEstimate> EstimateFundamental(const std::vector<Eigen::Vector2d>& prev,
                                                        const std::vector<Eigen::Vector2d>& cur,
                                                        const std::vector<bool>& preferred, const DynamicConfig& config);
-
-// Normalised 8-point least squares with rank 2 enforced; at least 8 pairs.
-Eigen::Matrix3d FundamentalEightPoint(const std::vector<Eigen::Vector2d>& prev,
-                                      const std::vector<Eigen::Vector2d>& cur);
 
 // Eq. (4): d = |p_cur^T F p_prev| / sqrt(X^2 + Y^2), (X, Y, Z) = F p_prev (eq. 2).
 double EpipolarDistance(const Eigen::Matrix3d& F_cur_prev, const Eigen::Vector2d& prev, const Eigen::Vector2d& cur);

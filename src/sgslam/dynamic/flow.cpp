@@ -5,7 +5,6 @@
 #include <utility>
 #include <opencv2/video/tracking.hpp>
 
-#include "sgslam/common/stats.h"
 
 namespace sgslam::dynamic {
 
@@ -33,38 +32,6 @@ float Bilinear(const cv::Mat& image, float x, float y) {
   const uchar* r0 = image.ptr<uchar>(y0);
   const uchar* r1 = image.ptr<uchar>(y1);
   return (1 - ay) * ((1 - ax) * r0[x0] + ax * r0[x1]) + ay * ((1 - ax) * r1[x0] + ax * r1[x1]);
-}
-
-// The motion model's guess can be off by more than the reduced pyramid reaches
-// (a jerk of the hand-held camera: dyn_dev frame 112 lost 5 frames after it). A
-// sparse probe of the points, tracked with the full pyramid from the points
-// themselves, measures that error; its median moves every guess.
-std::vector<cv::Point2f> ProbedGuess(const FlowFrame& prev, const FlowFrame& cur, const std::vector<cv::Point2f>& points,
-                                     const std::vector<cv::Point2f>& guess, const DynamicConfig& config) {
-  const std::size_t n = points.size();
-  const std::size_t want = static_cast<std::size_t>(config.lk_probe);
-  if (want == 0 || n < 2 * want) return guess;
-  const std::size_t stride = n / want;
-  std::vector<cv::Point2f> probe, found;
-  std::vector<std::size_t> index;
-  for (std::size_t i = 0; i < n; i += stride) probe.push_back(points[i]), index.push_back(i);
-  std::vector<uchar> ok;
-  std::vector<float> err;
-  cv::calcOpticalFlowPyrLK(LkInput(cur), LkInput(prev), probe, found, ok, err, Window(config), config.lk_levels,
-                           Stop(config));
-  std::vector<double> dx, dy;
-  for (std::size_t k = 0; k < probe.size(); ++k) {
-    if (!ok[k] || !std::isfinite(found[k].x) || !std::isfinite(found[k].y)) continue;
-    dx.push_back(found[k].x - guess[index[k]].x);
-    dy.push_back(found[k].y - guess[index[k]].y);
-  }
-  if (dx.size() < probe.size() / 2) return guess;  // the probe itself failed: trust the model
-  // The middle element (nearest rank), as measured; Median would average two.
-  const cv::Point2f shift(static_cast<float>(Percentile(std::move(dx), 0.5)),
-                          static_cast<float>(Percentile(std::move(dy), 0.5)));
-  std::vector<cv::Point2f> out(guess);
-  for (cv::Point2f& p : out) p += shift;
-  return out;
 }
 
 }  // namespace
@@ -96,7 +63,7 @@ double PatchDifference(const cv::Mat& image_a, cv::Point2f a, const cv::Mat& ima
 }
 
 FlowPairs TrackBackward(const FlowFrame& prev, const FlowFrame& cur, const std::vector<cv::Point2f>& cur_points,
-                        const DynamicConfig& config, const std::vector<cv::Point2f>* guess) {
+                        const DynamicConfig& config) {
   FlowPairs out;
   const size_t n = cur_points.size();
   out.status.assign(n, PairStatus::kFlowFailed);
@@ -104,23 +71,15 @@ FlowPairs TrackBackward(const FlowFrame& prev, const FlowFrame& cur, const std::
   std::vector<uchar> ok;
   std::vector<float> err;
   // Line 1: P1 = CalcOpticalFlowPyrLK(F2, F1, P2), current -> previous.
-  // A start near the answer needs fewer levels (dynamic_config.h, lk_predict).
-  int flags = 0, levels = config.lk_levels;
-  if (guess != nullptr && guess->size() == n) {
-    out.prev = ProbedGuess(prev, cur, cur_points, *guess, config);
-    flags = cv::OPTFLOW_USE_INITIAL_FLOW;
-    levels = std::min(levels, config.lk_levels_predicted);
-  }
-  cv::calcOpticalFlowPyrLK(LkInput(cur), LkInput(prev), cur_points, out.prev, ok, err, Window(config), levels,
-                           Stop(config), flags);
+  cv::calcOpticalFlowPyrLK(LkInput(cur), LkInput(prev), cur_points, out.prev, ok, err, Window(config),
+                           config.lk_levels, Stop(config));
   // Line 2: drop failed flow, border pairs and pairs that changed appearance. The
   // margin also keeps the appearance patches inside both images.
   const double margin = std::max(config.border, static_cast<double>(config.patch_radius) + 1.0);
   const cv::Size size = cur.gray.size();
   for (size_t i = 0; i < n; ++i) {
     PairStatus& s = out.status[i];
-    if (!ok[i] || !std::isfinite(out.prev[i].x) || !std::isfinite(out.prev[i].y) ||
-        (config.lk_max_error > 0 && err[i] > config.lk_max_error)) {
+    if (!ok[i] || !std::isfinite(out.prev[i].x) || !std::isfinite(out.prev[i].y)) {
       s = PairStatus::kFlowFailed;
     } else if (!Inside(cur_points[i], size, margin) || !Inside(out.prev[i], size, margin)) {
       s = PairStatus::kBorder;
@@ -131,24 +90,6 @@ FlowPairs TrackBackward(const FlowFrame& prev, const FlowFrame& cur, const std::
       s = PairStatus::kOk;
       ++out.valid;
     }
-  }
-  return out;
-}
-
-std::vector<bool> ForwardConsistent(const FlowFrame& prev, const FlowFrame& cur,
-                                    const std::vector<cv::Point2f>& prev_points,
-                                    const std::vector<cv::Point2f>& cur_points, const DynamicConfig& config,
-                                    double tolerance) {
-  std::vector<bool> out(prev_points.size(), false);
-  if (prev_points.empty()) return out;
-  std::vector<cv::Point2f> forward;
-  std::vector<uchar> ok;
-  std::vector<float> err;
-  cv::calcOpticalFlowPyrLK(LkInput(prev), LkInput(cur), prev_points, forward, ok, err, Window(config), config.lk_levels,
-                           Stop(config));
-  for (std::size_t i = 0; i < out.size(); ++i) {
-    const cv::Point2f d = forward[i] - cur_points[i];
-    out[i] = ok[i] && std::isfinite(d.x) && std::isfinite(d.y) && std::hypot(d.x, d.y) <= tolerance;
   }
   return out;
 }

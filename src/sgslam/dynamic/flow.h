@@ -32,19 +32,9 @@ struct FlowPairs {
   int valid = 0;                   // pairs with status kOk
 };
 
-// cur_points: keypoint positions in the current image (px, as detected). guess:
-// where LK starts in the previous image, one per point (flow_guess.h); null: at
-// the points themselves.
+// cur_points: keypoint positions in the current image (px, as detected).
 FlowPairs TrackBackward(const FlowFrame& prev, const FlowFrame& cur, const std::vector<cv::Point2f>& cur_points,
-                        const DynamicConfig& config, const std::vector<cv::Point2f>* guess = nullptr);
-
-// Forward-backward consistency of pairs: prev_points (where the backward flow put
-// the keypoints) are tracked forward into the current image with the full
-// pyramid; true where that lands within tolerance px of cur_points.
-std::vector<bool> ForwardConsistent(const FlowFrame& prev, const FlowFrame& cur,
-                                    const std::vector<cv::Point2f>& prev_points,
-                                    const std::vector<cv::Point2f>& cur_points, const DynamicConfig& config,
-                                    double tolerance);
+                        const DynamicConfig& config);
 
 // Zero-mean mean absolute difference of the (2r+1)^2 patches around a (in image_a)
 // and b (in image_b), sampled bilinearly; both patches must lie inside their images.

@@ -30,7 +30,7 @@ struct MotionEstimate {
   int inliers = 0;  // within config.motion_threshold px after the refit
 };
 
-// The PnP core shared with the keypoint tracks (track_memory.h): RANSAC on AP3P
+// The PnP core, also used by tracking when it recovers: RANSAC on AP3P
 // minimal sets within `threshold` px, then the LM refit on its inliers. nullopt
 // when fewer than max(min_inliers, 6) points or min_inliers inliers.
 std::optional<SE3> SolvePnPMotion(const std::vector<cv::Point3f>& object, const std::vector<cv::Point2f>& image,

@@ -7,7 +7,6 @@
 
 #include "sgslam/common/error.h"
 #include "sgslam/common/stats.h"
-#include "sgslam/dynamic/rolling_pairs.h"
 
 namespace sgslam::dynamic {
 
@@ -26,8 +25,6 @@ int Decide(Mode mode, double eps, const DynamicConfig& c, const std::vector<bool
     } else if (std::isnan(v.distance)) {
       if (mode == Mode::kSg && v.weight > 1.0) {
         v.kept = false, v.why = Why::kSemantics;
-      } else if (c.reject_unmatched) {
-        v.kept = false, v.why = Why::kUnmatched;
       } else if (c.judge_appearance_pairs && v.loose_distance >= eps) {  // NaN compares false
         v.kept = false, v.why = Why::kGeometry;
       } else {
@@ -66,7 +63,6 @@ void Count(RejectionResult& r) {
     r.rejected_geometry += v.why == Why::kGeometry;
     r.rejected_semantics += v.why == Why::kSemantics;
     r.rejected_depth += v.why == Why::kDepth;
-    r.rejected_unmatched += v.why == Why::kUnmatched;
     r.in_dynamic_boxes += v.weight > 1.0;
   }
 }
@@ -117,7 +113,7 @@ DynamicPrior MakeDynamicPrior(const std::vector<cv::KeyPoint>& keys, const Rejec
 }
 
 PairSet TrackPairs(const FlowFrame& prev, const FlowFrame& cur, const std::vector<cv::KeyPoint>& keys,
-                   const DynamicConfig& config, const UndistortPointsFn& undistort, const FlowPrediction* predict) {
+                   const DynamicConfig& config, const UndistortPointsFn& undistort) {
   const Stopwatch watch;
   PairSet p;
   p.cur.resize(keys.size());
@@ -125,9 +121,7 @@ PairSet TrackPairs(const FlowFrame& prev, const FlowFrame& cur, const std::vecto
   const bool undistorting = undistort && config.undistort_pairs;
   p.cur_un = p.cur;
   if (undistorting) undistort(p.cur_un);
-  std::vector<cv::Point2f> guess;
-  if (predict != nullptr && config.lk_predict) guess = PredictPrevious(p.cur, p.cur_un, *predict, config.depth_min, config.depth_max);
-  p.flow = TrackBackward(prev, cur, p.cur, config, guess.empty() ? nullptr : &guess);  // lines 1-2
+  p.flow = TrackBackward(prev, cur, p.cur, config);  // lines 1-2
   p.prev_un = p.flow.prev;
   if (undistorting) undistort(p.prev_un);  // failed pairs are undistorted too (cheap, unused)
   p.ms = watch.ElapsedMs();
@@ -136,8 +130,7 @@ PairSet TrackPairs(const FlowFrame& prev, const FlowFrame& cur, const std::vecto
 
 RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>& keys,
                            const std::vector<Detection>& detections, const WeightFn& weight,
-                           const DynamicConfig& config, const DepthCheckInput* depth, const DynamicPrior* prior,
-                           const RollingShutterInput* rolling) {
+                           const DynamicConfig& config, const DepthCheckInput* depth, const DynamicPrior* prior) {
   const Stopwatch total;
   const Mode mode = ParseMode(config.mode);
   RejectionResult r;
@@ -196,17 +189,8 @@ RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>
     if (!valid[i]) continue;
     use_motion[i] = (mode != Mode::kSg || w_fit[i] <= 1.0) && !(prior != nullptr && prior->Dynamic(flow.prev[i]));
   }
-  // A rolling shutter bends the two images differently when the turn speeds up or
-  // slows down: the pairs go to their middle-row cameras first (rolling_pairs.h).
-  std::optional<PairSet> turned;
-  std::optional<RollingShutterFit> rolling_fit;
-  if (rolling != nullptr && config.rolling_shutter_pairs && rolling->readout > 0) {
-    turned = pairs;
-    rolling_fit = CorrectPairsForRollingShutter(*turned, use_motion, *rolling, config);
-    if (rolling_fit->fitted) r.angular_velocity = rolling_fit->w_cur;
-  }
-  const std::vector<cv::Point2f>& prev_un = turned ? turned->prev_un : pairs.prev_un;
-  const std::vector<cv::Point2f>& cur_un = turned ? turned->cur_un : pairs.cur_un;
+  const std::vector<cv::Point2f>& prev_un = pairs.prev_un;
+  const std::vector<cv::Point2f>& cur_un = pairs.cur_un;
   for (size_t i = 0; i < keys.size(); ++i) {
     if (!valid[i]) continue;
     p1.emplace_back(prev_un[i].x, prev_un[i].y);
@@ -218,10 +202,7 @@ RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>
     for (size_t i = 0, k = 0; i < keys.size(); ++i) {
       if (valid[i]) r.keypoints[i].distance = EpipolarDistance(r.fundamental->F_cur_prev, p1[k], p2[k]), ++k;
     }
-    if (!r.fundamental->from_static) {  // too few preferred pairs: all
-      use_motion = valid;
-      if (rolling_fit) rolling_fit->fitted = false;  // fitted on the preferred ones
-    }
+    if (!r.fundamental->from_static) use_motion = valid;  // too few preferred pairs: all
     if (config.judge_appearance_pairs) {
       for (size_t i = 0; i < keys.size(); ++i) {
         if (flow.status[i] != PairStatus::kAppearance) continue;
@@ -237,25 +218,12 @@ RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>
   std::vector<bool> moved(keys.size(), false);
   std::vector<bool> confirmed(keys.size(), false);
   if (config.depth_check && depth != nullptr) {
-    std::optional<DepthCheckInput> with_motion;
-    const DepthCheckInput* in = depth;
-    if (config.depth_motion == "pnp" && rolling_fit && rolling_fit->fitted) {
-      r.motion = MotionEstimate{rolling_fit->T_cur_prev, rolling_fit->pairs, rolling_fit->inliers};
-      with_motion = *depth;
-      with_motion->T_cur_prev = r.motion->T_cur_prev;
-      in = &*with_motion;
-    } else if (config.depth_motion == "pnp") {
-      r.motion = EstimateMotion(flow.prev, prev_un, cur_un, use_motion, depth->prev_depth,
-                                depth->depth_factor, depth->K, config);
-      if (r.motion) {
-        with_motion = *depth;
-        with_motion->T_cur_prev = r.motion->T_cur_prev;
-        in = &*with_motion;
-      } else {
-        in = nullptr;  // no trustworthy motion: no check this frame
-      }
-    }
-    if (in != nullptr) {
+    // The camera motion of the check: PnP RANSAC on the same preferred pairs as F.
+    r.motion = EstimateMotion(flow.prev, prev_un, cur_un, use_motion, depth->prev_depth, depth->depth_factor,
+                              depth->K, config);
+    if (r.motion) {  // else no trustworthy motion: no check this frame
+      DepthCheckInput in = *depth;
+      in.T_cur_prev = r.motion->T_cur_prev;
       // The median level needs the movers mostly gone from the pairs, which only the
       // boxes of sg give: in geometric mode people fill up to half of a dyn_dev frame,
       // lift the median and pass (3 of 5 panel runs failed at 0.15-0.16 m).
@@ -266,7 +234,7 @@ RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>
         fixed->reprojection_median_factor = 0;
       }
       const std::vector<DepthResidual> residuals =
-          CheckDepth(flow.prev, pairs.cur, prev_un, cur_un, valid, *in, fixed ? *fixed : config);
+          CheckDepth(flow.prev, pairs.cur, prev_un, cur_un, valid, in, fixed ? *fixed : config);
       int checked = 0, flagged = 0;
       for (size_t i = 0; i < keys.size(); ++i) {
         moved[i] = residuals[i].valid && residuals[i].moved;

@@ -7,8 +7,7 @@
 //   none       all kept
 // Keypoints without a valid flow pair or F cannot be judged geometrically: in sg a
 // keypoint inside a dynamic box is rejected (semantics is the only evidence),
-// elsewhere kept, as in geometric mode (reject_unmatched = true gives the paper's
-// literal rule, where only matched pairs can enter S). A pair that failed only the
+// elsewhere kept, as in geometric mode. A pair that failed only the
 // appearance filter is kept out of F but, with config.judge_appearance_pairs, its
 // keypoint is rejected outside the boxes when the pair is beyond eps.
 // Fallback (release: restore every keypoint when < 10 % survive, person present):
@@ -25,9 +24,9 @@
 // that flags more than config.depth_max_share of the pairs it could test is
 // ignored for the frame (its motion must be wrong). In sg, a keypoint in a dynamic
 // box that the check passes within config.confirm_static of both tolerances is
-// judged at w = 1 (direct evidence outweighs the box's prior). With
-// config.depth_motion = pnp the check uses the motion PnP RANSAC finds on the
-// pairs (motion.h, fitted on the same preferred pairs as F), else the tracker's.
+// judged at w = 1 (direct evidence outweighs the box's prior). The check uses the
+// motion PnP RANSAC finds on the pairs (motion.h, fitted on the same preferred
+// pairs as F).
 // Geometry (F, eq. 4, PnP, reprojection) uses undistorted pixels when an undistort
 // function is given and config.undistort_pairs; LK and the depth lookups use the
 // raw positions.
@@ -47,7 +46,6 @@
 #include "sgslam/dynamic/dynamic_config.h"
 #include "sgslam/dynamic/epipolar.h"
 #include "sgslam/dynamic/flow.h"
-#include "sgslam/dynamic/flow_guess.h"
 #include "sgslam/dynamic/motion.h"
 #include "sgslam/dynamic/regions.h"
 
@@ -63,7 +61,6 @@ enum class Why : std::uint8_t {
   kGeometry,   // rejected: d * w >= eps (Algorithm 1 lines 6, 10)
   kSemantics,  // rejected: inside a dynamic box with no geometric evidence (semantic mode, or no pair)
   kDepth,      // rejected: RGB-D check (depth_check.h)
-  kUnmatched,  // rejected: no valid pair and reject_unmatched
 };
 
 struct KeypointVerdict {
@@ -106,41 +103,30 @@ struct DynamicPrior {
   int Memory(cv::Point2f p) const;  // frames the cell at p stays dynamic; 0: static or no prior
 };
 
-struct RollingShutterInput;  // rolling_pairs.h
-
 struct RejectionResult {
   std::vector<KeypointVerdict> keypoints;  // one per input keypoint, same order
-  int kept = 0, rejected_geometry = 0, rejected_semantics = 0, rejected_depth = 0, rejected_unmatched = 0;
+  int kept = 0, rejected_geometry = 0, rejected_semantics = 0, rejected_depth = 0;
   int in_dynamic_boxes = 0;  // keypoints with w > 1
   int valid_pairs = 0;       // flow pairs that passed line 2
   std::optional<FundamentalEstimate> fundamental;
-  std::optional<MotionEstimate> motion;  // PnP motion of the RGB-D check (depth_motion = pnp)
+  std::optional<MotionEstimate> motion;  // PnP motion of the RGB-D check
   bool depth_ignored = false;            // the check flagged more than config.depth_max_share: ignored
-  // The current frame's angular velocity fitted from the pairs (rolling_pairs.h);
-  // none without a rolling shutter or too few pairs.
-  std::optional<Eigen::Vector3d> angular_velocity;
   double eps_used = 0;  // px, eps_std after fallback relaxation
   int relax_steps = 0;  // fallback relaxation steps taken
   int restored = 0;     // keypoints kept by the fallback ranking (or by restore-all)
   RejectionTiming ms;
 };
 
-// predict: the motion model's guess of where each keypoint was, LK's starting
-// point (config.lk_predict, flow_guess.h); null: LK starts at the keypoints.
 PairSet TrackPairs(const FlowFrame& prev, const FlowFrame& cur, const std::vector<cv::KeyPoint>& keys,
-                   const DynamicConfig& config, const UndistortPointsFn& undistort = {},
-                   const FlowPrediction* predict = nullptr);
+                   const DynamicConfig& config, const UndistortPointsFn& undistort = {});
 
 // depth: the RGB-D check's inputs, used when config.depth_check (null: skipped);
-// with depth_motion = pnp its T_cur_prev is replaced by the PnP estimate (no
-// estimate: no check). prior: config.prior_cell's map of the previous frame.
-// rolling: a rolling-shutter camera's velocities (rolling_pairs.h); with
-// config.rolling_shutter_pairs the pairs are moved to their middle-row cameras
-// before F and the RGB-D check, and the fitted motion is the check's.
+// its T_cur_prev is replaced by the PnP estimate (no estimate: no check). prior:
+// config.prior_cell's map of the previous frame.
 RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>& keys,
                            const std::vector<Detection>& detections, const WeightFn& weight,
                            const DynamicConfig& config, const DepthCheckInput* depth = nullptr,
-                           const DynamicPrior* prior = nullptr, const RollingShutterInput* rolling = nullptr);
+                           const DynamicPrior* prior = nullptr);
 
 // The prior for the next frame from this frame's verdicts: a cell is dynamic when
 // most of its keypoints are; a rejected keypoint counts for `memory` frames, passed

@@ -29,7 +29,6 @@ struct RgbdImages {
   Timestamp t = 0;  // the RGB timestamp names the frame
   cv::Mat bgr;      // CV_8UC3
   cv::Mat depth;    // CV_16UC1, raw units (camera.depth_factor per metre)
-  cv::Mat truth_mask;  // optional CV_8UC1 ground-truth dynamic mask (dynamic.truth_masks), non-zero = moving
 };
 
 class TumDataset {

@@ -4,12 +4,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 
 #include "sgslam/camera/camera.h"
 #include "sgslam/common/stats.h"
-#include "sgslam/dynamic/neighbours.h"
-#include "sgslam/dynamic/rolling_pairs.h"
 
 namespace sgslam {
 
@@ -44,68 +41,7 @@ void DynamicStage::Submit(std::uint64_t frame_id, Timestamp t, const cv::Mat& bg
   if (worker_) worker_->Submit(frame_id, t, bgr);
 }
 
-void DynamicStage::ApplyTruthMask(const cv::Mat& mask, const std::vector<cv::KeyPoint>& keys, DynamicOutcome& out) {
-  out.dynamic.assign(keys.size(), 0);
-  out.unjudged.clear();  // the masks judge every keypoint
-  out.kept = 0;
-  out.rejected_geometry = out.rejected_depth = out.rejected_track = 0;
-  for (std::size_t i = 0; i < keys.size(); ++i) {
-    // The pixel eval::ScoreKeypoints scores the keypoint by.
-    const int x = std::clamp(cvRound(keys[i].pt.x), 0, mask.cols - 1);
-    const int y = std::clamp(cvRound(keys[i].pt.y), 0, mask.rows - 1);
-    out.dynamic[i] = mask.at<std::uint8_t>(y, x) != 0 ? 1 : 0;
-    out.kept += out.dynamic[i] == 0;
-  }
-  out.rejected_semantics = static_cast<int>(keys.size()) - out.kept;
-  out.judged = true;
-}
-
 DetectionWorkerStats DynamicStage::detector_stats() const { return worker_ ? worker_->stats() : DetectionWorkerStats{}; }
-
-int DynamicStage::ApplyMultiFrameChecks(const std::vector<cv::KeyPoint>& keys,
-                                        const std::vector<dynamic::TrackVerdict>& tracks,
-                                        dynamic::RejectionResult& r) {
-  const DynamicConfig& c = config_.dynamic;
-  // The fallback's minimum stays kept: the most moving-looking go first.
-  const int min_kept = static_cast<int>(std::ceil(c.min_kept_ratio * static_cast<double>(keys.size())));
-  int budget = std::max(0, r.kept - min_kept);
-  const auto reject = [&](std::vector<std::size_t> idx, const std::function<double(std::size_t)>& score) {
-    if (static_cast<int>(idx.size()) > budget) {
-      std::stable_sort(idx.begin(), idx.end(), [&](std::size_t a, std::size_t b) { return score(a) > score(b); });
-      idx.resize(static_cast<std::size_t>(budget));
-    }
-    for (std::size_t i : idx) r.keypoints[i].kept = false, r.keypoints[i].why = dynamic::Why::kDepth;
-    budget -= static_cast<int>(idx.size());
-    return static_cast<int>(idx.size());
-  };
-  int rejected = 0;
-  if (c.track_check && tracks.size() == keys.size()) {
-    std::vector<std::size_t> moving;
-    for (std::size_t i = 0; i < keys.size(); ++i) {
-      if (tracks[i].moving && r.keypoints[i].kept) moving.push_back(i);
-    }
-    rejected += reject(moving, [&](std::size_t i) { return tracks[i].residual; });
-  }
-  if (c.track_rescue && tracks.size() == keys.size()) {
-    // Inside a dynamic box (w > 1) a static point is rejected at d >= eps_std / w
-    // (0.6 px at w = 5: most of the static points in a person box on fr1); a track
-    // that has stayed on its anchor for several frames is static whatever its box.
-    int restored = 0;
-    for (std::size_t i = 0; i < keys.size(); ++i) {
-      dynamic::KeypointVerdict& v = r.keypoints[i];
-      if (v.kept || v.why != dynamic::Why::kGeometry || v.weight <= 1.0) continue;
-      if (tracks[i].age < c.track_min_age || tracks[i].moving || tracks[i].residual > c.track_rescue_tolerance) continue;
-      v.kept = true, v.why = dynamic::Why::kFallback;
-      ++restored;
-    }
-    r.kept += restored, r.rejected_geometry -= restored, budget += restored;
-  }
-  if (c.unjudged_radius > 0) {
-    rejected += reject(dynamic::UnjudgedAmongMovers(keys, r.keypoints, c.unjudged_radius, c.unjudged_share, 2),
-                       [](std::size_t) { return 0.0; });
-  }
-  return rejected;
-}
 
 std::vector<bool> DynamicStage::ShowMotion(const std::vector<cv::KeyPoint>& keys, const dynamic::RejectionResult& r,
                                            const std::vector<Detection>& boxes) const {
@@ -136,14 +72,8 @@ std::vector<std::uint8_t> DynamicStage::JudgeFirstAgain(const dynamic::FlowFrame
   // with the boxes the first frame was judged by.
   std::vector<std::uint8_t> now_static(first_keys_.size(), 0);
   if (first_keys_.empty() || prev_depth_.empty()) return now_static;
-  dynamic::UndistortPointsFn undistort;
-  if (undistort_) undistort = [table = undistort_](std::vector<cv::Point2f>& p) { table->Apply(p); };
-  const dynamic::PairSet pairs = dynamic::TrackPairs(cur, prev_, first_keys_, config_.dynamic, undistort);
-  dynamic::DepthCheckInput depth;
-  depth.prev_depth = depth_raw;
-  depth.cur_depth = prev_depth_;
-  depth.depth_factor = config_.camera.depth_factor;
-  depth.K = {camera_->fx(), camera_->fy(), camera_->cx(), camera_->cy()};
+  const dynamic::PairSet pairs = dynamic::TrackPairs(cur, prev_, first_keys_, config_.dynamic, Undistort());
+  const dynamic::DepthCheckInput depth = DepthInput(depth_raw, prev_depth_);
   const dynamic::RejectionResult r = dynamic::JudgePairs(pairs, first_keys_, first_boxes_, weight, config_.dynamic,
                                                          config_.dynamic.depth_check ? &depth : nullptr);
   for (std::size_t i = 0; i < first_keys_.size(); ++i) {
@@ -152,135 +82,90 @@ std::vector<std::uint8_t> DynamicStage::JudgeFirstAgain(const dynamic::FlowFrame
   return now_static;
 }
 
+dynamic::WeightFn DynamicStage::Weight() const {
+  // Algorithm 1 weighs a point by the largest w of the boxes holding it (a chair's
+  // w = 2 too); semantic mode removes only the boxes of moving-object classes.
+  if (mode_ == dynamic::Mode::kSemantic) {
+    return [this](const std::string& name) { return classes_.is_dynamic(name) ? classes_.weight(name) : 1.0; };
+  }
+  return [this](const std::string& name) { return classes_.weight(name); };
+}
+
+dynamic::UndistortPointsFn DynamicStage::Undistort() const {
+  if (!undistort_) return {};
+  return [table = undistort_](std::vector<cv::Point2f>& p) { table->Apply(p); };
+}
+
+dynamic::DepthCheckInput DynamicStage::DepthInput(const cv::Mat& prev_depth, const cv::Mat& cur_depth) const {
+  dynamic::DepthCheckInput depth;
+  depth.prev_depth = prev_depth;
+  depth.cur_depth = cur_depth;
+  depth.depth_factor = config_.camera.depth_factor;
+  depth.K = {camera_->fx(), camera_->fy(), camera_->cx(), camera_->cy()};
+  return depth;
+}
+
+dynamic::PairSet DynamicStage::TrackFlow(const std::vector<cv::KeyPoint>& keys, dynamic::FlowFrame& cur) const {
+  if (mode_ == dynamic::Mode::kSemantic) return {};
+  cur.pyramid = dynamic::BuildFlowPyramid(cur.gray, config_.dynamic);
+  if (prev_.gray.empty()) return {};  // the first frame: no flow
+  return dynamic::TrackPairs(prev_, cur, keys, config_.dynamic, Undistort());
+}
+
+void DynamicStage::AwaitDetections(std::uint64_t frame_id, const dynamic::PairSet& pairs, cv::Size image,
+                                   DynamicOutcome& out) {
+  if (!worker_) return;
+  const Stopwatch wait;
+  auto result = worker_->WaitResult(frame_id, std::chrono::milliseconds(config_.detector.timeout_ms));
+  out.wait_ms = wait.ElapsedMs();
+  if (result) {
+    out.detections = std::move(result->detections);
+    out.detector_ms = result->inference_ms;
+  } else {
+    out.detector_late = true;  // carry on geometry-only for this frame
+  }
+  // Late or not, the moving objects of the last frames are still about.
+  std::vector<Detection> carried = carrier_.Carry(out.detections, pairs.cur, pairs.flow, image);
+  out.carried = static_cast<int>(carried.size());
+  out.detections.insert(out.detections.end(), carried.begin(), carried.end());
+}
+
+dynamic::RejectionResult DynamicStage::Judge(const dynamic::PairSet& pairs, const std::vector<cv::KeyPoint>& keys,
+                                             const cv::Mat& depth_raw, cv::Size image, bool first,
+                                             const std::vector<Detection>& detections) {
+  DynamicConfig dyn = config_.dynamic;
+  if (first && mode_ == dynamic::Mode::kSg) dyn.mode = "semantic";  // no flow yet: boxes are the only evidence
+  std::optional<dynamic::DepthCheckInput> depth;
+  if (dyn.depth_check && !prev_depth_.empty()) depth = DepthInput(prev_depth_, depth_raw);
+  std::vector<Detection> judged;
+  const double max_area = config_.dynamic.max_box_area * image.area();
+  for (const Detection& d : detections) {
+    if (d.box.area() <= max_area) judged.push_back(d);
+  }
+  if (first) first_boxes_ = judged;  // for JudgeFirstAgain (kept only when boxes_only_)
+  return dynamic::JudgePairs(pairs, keys, judged, Weight(), dyn, depth ? &*depth : nullptr,
+                             prior_.cell > 0 ? &prior_ : nullptr);
+}
+
 DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, const cv::Mat& depth_raw,
-                                   const std::vector<cv::KeyPoint>& keys, const std::optional<SE3>& T_cur_prev,
-                                   const std::optional<TurnRates>& turn) {
+                                   const std::vector<cv::KeyPoint>& keys) {
   DynamicOutcome out;
   out.dynamic.assign(keys.size(), 0);
   out.detector_used = worker_ != nullptr;
   if (mode_ == dynamic::Mode::kNone) return out;
 
-  // Lines 1-2 (pyramid, backward LK, pair filters, undistortion) need no boxes:
-  // they run while the detector works on the same frame, and tracking waits only
-  // for what is left (paper Fig. 1).
   const Stopwatch flow_watch;
-  dynamic::FlowFrame cur{gray, {}};
   const bool first = prev_.gray.empty();
-  dynamic::PairSet pairs;
-  if (mode_ != dynamic::Mode::kSemantic) {
-    cur.pyramid = dynamic::BuildFlowPyramid(gray, config_.dynamic);
-    if (!first) {
-      dynamic::UndistortPointsFn undistort;
-      if (undistort_) undistort = [table = undistort_](std::vector<cv::Point2f>& p) { table->Apply(p); };
-      std::optional<dynamic::FlowPrediction> predict;
-      if (T_cur_prev && config_.dynamic.lk_predict) {
-        predict = dynamic::FlowPrediction{depth_raw, config_.camera.depth_factor,
-                                          {camera_->fx(), camera_->fy(), camera_->cx(), camera_->cy()}, *T_cur_prev};
-      }
-      pairs = dynamic::TrackPairs(prev_, cur, keys, config_.dynamic, undistort, predict ? &*predict : nullptr);
-    }
-  }
-  // The keypoint tracks need no boxes either (track_memory.h).
-  std::vector<dynamic::TrackVerdict> tracks;
-  const DynamicConfig& dc = config_.dynamic;
-  const bool use_tracks = mode_ != dynamic::Mode::kSemantic && (dc.track_check || dc.track_rescue || dc.track_motion);
-  if (use_tracks) {
-    const dynamic::Pinhole K{camera_->fx(), camera_->fy(), camera_->cx(), camera_->cy()};
-    tracks = tracks_.Update(keys, pairs.cur_un, pairs.flow, pairs.prev_un, depth_raw, config_.camera.depth_factor, K,
-                            T_cur_prev, config_.dynamic);
-  }
+  dynamic::FlowFrame cur{gray, {}};
+  const dynamic::PairSet pairs = TrackFlow(keys, cur);
   const double flow_ms = flow_watch.ElapsedMs();
-
-  if (worker_) {
-    const Stopwatch wait;
-    auto result = worker_->WaitResult(frame_id, std::chrono::milliseconds(config_.detector.timeout_ms));
-    out.wait_ms = wait.ElapsedMs();
-    if (result) {
-      out.detections = std::move(result->detections);
-      out.detector_ms = result->inference_ms;
-    } else {
-      out.detector_late = true;  // carry on geometry-only for this frame
-    }
-    // Late or not, the moving objects of the last frames are still about.
-    std::vector<Detection> carried = carrier_.Carry(out.detections, pairs.cur, pairs.flow, gray.size());
-    out.carried = static_cast<int>(carried.size());
-    out.detections.insert(out.detections.end(), carried.begin(), carried.end());
-  }
+  AwaitDetections(frame_id, pairs, gray.size(), out);
 
   const Stopwatch watch;
-  // Algorithm 1 weighs a point by the largest w of the boxes holding it (a chair's
-  // w = 2 too); semantic mode removes only the boxes of moving-object classes.
-  dynamic::WeightFn weight;
-  if (mode_ == dynamic::Mode::kSemantic) {
-    weight = [this](const std::string& name) { return classes_.is_dynamic(name) ? classes_.weight(name) : 1.0; };
-  } else {
-    weight = [this](const std::string& name) { return classes_.weight(name); };
-  }
-
-  DynamicConfig dyn = config_.dynamic;
-  if (first && mode_ == dynamic::Mode::kSg) dyn.mode = "semantic";  // no flow yet: boxes are the only evidence
   if (!first || mode_ == dynamic::Mode::kSemantic || mode_ == dynamic::Mode::kSg) {
-    std::optional<dynamic::DepthCheckInput> depth;
-    // The anchors' motion replaces the two-frame PnP of the RGB-D check (see track_memory.h).
-    const bool from_tracks = use_tracks && tracks_.motion_from_tracks() && config_.dynamic.track_motion;
-    if (from_tracks) dyn.depth_motion = "tracker";
-    const bool pnp = dyn.depth_motion == "pnp";
-    if (dyn.depth_check && (pnp || from_tracks || T_cur_prev) && !prev_depth_.empty()) {
-      depth.emplace();
-      depth->prev_depth = prev_depth_;
-      depth->cur_depth = depth_raw;
-      depth->depth_factor = config_.camera.depth_factor;
-      depth->K = {camera_->fx(), camera_->fy(), camera_->cx(), camera_->cy()};
-      if (from_tracks) depth->T_cur_prev = *tracks_.motion();
-      else if (T_cur_prev) depth->T_cur_prev = *T_cur_prev;  // pnp: replaced by the PnP estimate
-    }
-    std::vector<Detection> judged;
-    const double max_area = config_.dynamic.max_box_area * gray.cols * gray.rows;
-    for (const Detection& d : out.detections) {
-      if (d.box.area() <= max_area) judged.push_back(d);
-    }
-    if (first) first_boxes_ = judged;  // for JudgeFirstAgain (kept only when boxes_only_)
-    std::optional<dynamic::RollingShutterInput> rolling;
-    if (turn && config_.dynamic.rolling_shutter_pairs && config_.camera.readout > 0 && !first) {
-      rolling.emplace();
-      rolling->readout = config_.camera.readout;
-      rolling->height = gray.rows;
-      rolling->w_prev = turn->previous;
-      rolling->w_guess = turn->predicted;
-      rolling->prev_depth = prev_depth_;
-      rolling->depth_factor = config_.camera.depth_factor;
-      rolling->K = {camera_->fx(), camera_->fy(), camera_->cx(), camera_->cy()};
-    }
-    dynamic::RejectionResult r =
-        dynamic::JudgePairs(pairs, keys, judged, weight, dyn, depth ? &*depth : nullptr,
-                            prior_.cell > 0 ? &prior_ : nullptr, rolling ? &*rolling : nullptr);
-    out.angular_velocity = r.angular_velocity;
-    if (dc.forward_check > 0 && mode_ != dynamic::Mode::kSemantic && !first) {
-      // Only the keypoints the flow alone condemns (outside the boxes) are checked.
-      std::vector<std::size_t> which;
-      std::vector<cv::Point2f> from, to;
-      for (std::size_t i = 0; i < keys.size(); ++i) {
-        const dynamic::KeypointVerdict& v = r.keypoints[i];
-        if (v.kept || v.weight > 1.0 || pairs.flow.status[i] != dynamic::PairStatus::kOk) continue;
-        if (v.why != dynamic::Why::kDepth && v.why != dynamic::Why::kGeometry) continue;
-        which.push_back(i), from.push_back(pairs.flow.prev[i]), to.push_back(pairs.cur[i]);
-      }
-      const std::vector<bool> ok = dynamic::ForwardConsistent(prev_, cur, from, to, dc, dc.forward_check);
-      for (std::size_t k = 0; k < which.size(); ++k) {
-        if (ok[k]) continue;
-        dynamic::KeypointVerdict& v = r.keypoints[which[k]];
-        (v.why == dynamic::Why::kDepth ? r.rejected_depth : r.rejected_geometry) -= 1;
-        v.kept = true, v.why = dynamic::Why::kUnjudged;
-        ++r.kept;
-      }
-    }
-    if (mode_ != dynamic::Mode::kSemantic) {
-      out.rejected_track = ApplyMultiFrameChecks(keys, tracks, r);
-      r.kept -= out.rejected_track;
-      r.rejected_depth += out.rejected_track;
-    }
-    if (boxes_only_ && dc.first_frame_rejudge && mode_ == dynamic::Mode::kSg) {
-      out.static_in_first = JudgeFirstAgain(cur, depth_raw, weight);
+    const dynamic::RejectionResult r = Judge(pairs, keys, depth_raw, gray.size(), first, out.detections);
+    if (boxes_only_ && config_.dynamic.first_frame_rejudge && mode_ == dynamic::Mode::kSg) {
+      out.static_in_first = JudgeFirstAgain(cur, depth_raw, Weight());
     }
     out.unjudged.assign(keys.size(), 0);
     for (std::size_t i = 0; i < keys.size(); ++i) {

@@ -6,13 +6,8 @@
 //
 // Mode none skips everything; geometric never needs the detector; semantic and sg
 // use it when one is given, else they degrade (semantic to none, sg to geometric)
-// with one warning. On top of Algorithm 1, in geometric and sg modes and only when
-// configured (all off by default, see dynamic_config.h for the measurements): the
-// multi-frame track check (track_memory.h) rejects kept keypoints whose track moved
-// over several frames, track_rescue keeps geometry-rejected keypoints in dynamic
-// boxes whose track stayed put, and unjudged keypoints among rejected neighbours
-// are rejected (neighbours.h); the fallback's minimum always stays kept. In sg,
-// the boxes of moving objects that showed motion are carried over the next frames
+// with one warning. In sg, the boxes of moving objects that showed motion are
+// carried over the next frames
 // where the detector misses them (dynamic.carry_frames, box_carry.h). The
 // current LK pyramid is kept as the next frame's previous one, so each image's
 // pyramid is built once. The first frame has no flow: in sg its boxes alone judge
@@ -37,17 +32,11 @@
 #include "sgslam/detection/detector.h"
 #include "sgslam/dynamic/box_carry.h"
 #include "sgslam/dynamic/rejection.h"
-#include "sgslam/dynamic/track_memory.h"
 #include "sgslam/dynamic/undistort_table.h"
 
 namespace sgslam {
 
 class Camera;
-
-struct TurnRates {
-  Eigen::Vector3d previous = Eigen::Vector3d::Zero();   // rad/s, the previous frame's
-  Eigen::Vector3d predicted = Eigen::Vector3d::Zero();  // rad/s, the motion model's for this frame
-};
 
 struct DynamicOutcome {
   std::vector<std::uint8_t> dynamic;  // per keypoint: 1 = rejected (never tracked nor mapped)
@@ -55,14 +44,12 @@ struct DynamicOutcome {
   std::vector<Detection> detections;  // of this frame (empty without a detector or when late), then the carried ones
   int carried = 0;                    // of detections: missed moving-object boxes carried over (box_carry.h)
   int kept = 0, rejected_geometry = 0, rejected_semantics = 0, rejected_depth = 0;
-  int rejected_track = 0;     // of rejected_depth: by the checks on top of Algorithm 1 (tracks, unjudged)
   bool judged = false;        // Algorithm 1 ran (not the first frame, mode not none)
   bool detector_used = false;  // a detector is attached
   bool detector_late = false;  // the wait timed out or the frame was dropped
   double detector_ms = 0;      // inference time of this frame's detections
   double wait_ms = 0;          // time tracking waited for them
   double reject_ms = 0;        // flow (before the wait) + F + RGB-D check + decision
-  std::optional<Eigen::Vector3d> angular_velocity;  // rad/s, this frame's, fitted to the pairs (rolling shutter)
   // The frame after the first (dynamic.first_frame_rejudge): per keypoint of the
   // first frame, 1 where Algorithm 1, run on it with this frame as the other image,
   // judges it static (Tracker::ConfirmStaticInFirstKeyFrame clears those its boxes
@@ -87,25 +74,28 @@ class DynamicStage {
   void Submit(std::uint64_t frame_id, Timestamp t, const cv::Mat& bgr);
 
   // Labels the keypoints (raw, distorted positions) of the frame just submitted.
-  // depth_raw and T_cur_prev feed the optional RGB-D check (dynamic.depth_check);
-  // without T_cur_prev the check is skipped for this frame.
-  // turn: the previous frame's angular velocity and the prediction of this one's
-  // (rad/s, camera frame), for a rolling-shutter camera (dynamic.rolling_shutter_pairs).
+  // depth_raw feeds the RGB-D check (dynamic.depth_check).
   DynamicOutcome Label(std::uint64_t frame_id, const cv::Mat& gray, const cv::Mat& depth_raw,
-                       const std::vector<cv::KeyPoint>& keys, const std::optional<SE3>& T_cur_prev,
-                       const std::optional<TurnRates>& turn = std::nullopt);
+                       const std::vector<cv::KeyPoint>& keys);
 
   DetectionWorkerStats detector_stats() const;
 
-  // dynamic.truth_masks: replaces out's verdicts by the ground-truth mask (CV_8UC1,
-  // non-zero = moving) at each keypoint; the rejections count as semantic ones.
-  static void ApplyTruthMask(const cv::Mat& mask, const std::vector<cv::KeyPoint>& keys, DynamicOutcome& out);
-
  private:
-  // The checks on top of Algorithm 1's verdicts r (track_memory.h, neighbours.h);
-  // returns how many kept keypoints they rejected.
-  int ApplyMultiFrameChecks(const std::vector<cv::KeyPoint>& keys, const std::vector<dynamic::TrackVerdict>& tracks,
-                            dynamic::RejectionResult& r);
+  // Algorithm 1 lines 1-2 (pyramid, backward LK, pair filters, undistortion) into
+  // cur.pyramid and the pairs; they need no boxes, so they run while the detector
+  // works on the same frame (paper Fig. 1).
+  dynamic::PairSet TrackFlow(const std::vector<cv::KeyPoint>& keys, dynamic::FlowFrame& cur) const;
+  // The frame's detections (waited for with the timeout) and the carried boxes of
+  // missed movers, into out.
+  void AwaitDetections(std::uint64_t frame_id, const dynamic::PairSet& pairs, cv::Size image, DynamicOutcome& out);
+  // Algorithm 1 lines 3-14 and the RGB-D check on this frame's pairs.
+  dynamic::RejectionResult Judge(const dynamic::PairSet& pairs, const std::vector<cv::KeyPoint>& keys,
+                                 const cv::Mat& depth_raw, cv::Size image, bool first,
+                                 const std::vector<Detection>& detections);
+  // w of Algorithm 1 for a box's class name in this mode.
+  dynamic::WeightFn Weight() const;
+  dynamic::UndistortPointsFn Undistort() const;
+  dynamic::DepthCheckInput DepthInput(const cv::Mat& prev_depth, const cv::Mat& cur_depth) const;
 
   // dynamic.first_frame_rejudge: the first frame's keypoints that Algorithm 1
   // judges static with cur (this frame) as the other image.
@@ -130,7 +120,6 @@ class DynamicStage {
   std::vector<Detection> first_boxes_;
   cv::Mat prev_depth_;
   dynamic::DynamicPrior prior_;  // config.dynamic.prior_cell: the previous frame's rejections
-  dynamic::TrackMemory tracks_;  // config.dynamic.track_check
   dynamic::BoxCarrier carrier_;  // config.dynamic.carry_frames
 };
 

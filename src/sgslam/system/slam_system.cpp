@@ -3,8 +3,6 @@
 #include <filesystem>
 #include <thread>
 
-#include <sys/resource.h>
-#include <unistd.h>
 
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
@@ -91,7 +89,6 @@ void SlamSystem::Stop(bool final_ba) {
 }
 
 void SlamSystem::MappingLoop() {
-  if (config_.mapping.nice > 0) setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), config_.mapping.nice);
   while (auto item = queue_.Pop()) {
     mapping_busy_ = true;
     const MappingStats stats = mapper_.Process(item->keyframe, [this] { return queue_.size() > 0; });
@@ -131,13 +128,7 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
   extractor_.Extract(gray, keys, descriptors);
   report.extract_ms = watch.ElapsedMs();
 
-  std::optional<TurnRates> turn;
-  if (const auto previous = tracker_.LastAngularVelocity();
-      previous && config_.dynamic.rolling_shutter_pairs && camera_->config().readout > 0) {
-    turn = TurnRates{*previous, tracker_.PredictedAngularVelocity().value_or(*previous)};
-  }
-  DynamicOutcome dyn = dynamic_.Label(frame_id, gray, images.depth, keys, tracker_.PredictedMotion(), turn);
-  if (!images.truth_mask.empty()) DynamicStage::ApplyTruthMask(images.truth_mask, keys, dyn);
+  DynamicOutcome dyn = dynamic_.Label(frame_id, gray, images.depth, keys);
   report.kept = dyn.judged ? dyn.kept : static_cast<int>(keys.size());
   report.rejected_geometry = dyn.rejected_geometry;
   report.rejected_semantics = dyn.rejected_semantics;

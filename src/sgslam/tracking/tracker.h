@@ -69,23 +69,11 @@ class Tracker {
   int ConfirmStaticInFirstKeyFrame(const std::vector<std::uint8_t>& now_static);
 
   TrackState state() const { return state_; }
-  // The constant-velocity prediction of the next frame's motion, T_next_last
-  // (what the motion model will assume); none after a loss or before two poses.
-  std::optional<SE3> PredictedMotion() const {
-    if (state_ != TrackState::kOk || !has_velocity_) return std::nullopt;
-    return velocity_;
-  }
   // The camera-frame angular velocity (rad/s) of that prediction, for the rolling
   // shutter correction of the next frame's keypoints; none when there is none.
   std::optional<Eigen::Vector3d> PredictedAngularVelocity() const {
     if (state_ != TrackState::kOk || !has_velocity_) return std::nullopt;
     return AngularVelocity(velocity_, velocity_dt_);
-  }
-  // The angular velocity (rad/s) the last frame's keypoints were corrected with
-  // (fitted with its pose under a rolling shutter); none after a loss.
-  std::optional<Eigen::Vector3d> LastAngularVelocity() const {
-    if (state_ != TrackState::kOk || !last_frame_.features) return std::nullopt;
-    return last_frame_.features->angular_velocity;
   }
 
  private:
