@@ -17,7 +17,8 @@
 #include "sgslam/config/yaml_io.h"
 #include "sgslam/eval/ate.h"
 #include "sgslam/eval/mask_score.h"
-#include "sgslam/io/detections_file.h"
+#include "sgslam/eval/semantic_score.h"
+#include "sgslam/detection/detections_file.h"
 #include "sgslam/io/frame_stream.h"
 #include "sgslam/io/ply.h"
 #include "sgslam/io/text_file.h"
@@ -210,7 +211,7 @@ RunSummary RunSequence(const RunOptions& o) {
                      {"octomap_occupied_leaves", sem->octomap().OccupiedLeaves()},
                      {"objects", std::count_if(objects.begin(), objects.end(), [](const auto& e) { return e.exported; })}};
     if (!masks.empty()) {
-      const auto truth_cloud = sem->ScoreCloud([&](Timestamp t) { return masks.Load(t).value_or(cv::Mat()); });
+      const auto truth_cloud = eval::ScoreCloud(*sem, [&](Timestamp t) { return masks.Load(t).value_or(cv::Mat()); });
       const double share = truth_cloud.points > 0 ? static_cast<double>(truth_cloud.moving) / truth_cloud.points : 0.0;
       semantic_json["truth"] = {{"keyframes", truth_cloud.keyframes},
                                 {"cloud_points", truth_cloud.points},
@@ -221,7 +222,7 @@ RunSummary RunSequence(const RunOptions& o) {
       // The keyframes' depth images again, from disk: the semantic thread keeps none.
       std::unordered_map<Timestamp, std::size_t> index_of;
       for (std::size_t i = 0; i < dataset.size(); ++i) index_of[dataset.frames()[i].t_rgb] = i;
-      const auto truth_map = sem->ScoreOctoMap([&](Timestamp t) { return masks.Load(t).value_or(cv::Mat()); },
+      const auto truth_map = eval::ScoreOctoMap(*sem, [&](Timestamp t) { return masks.Load(t).value_or(cv::Mat()); },
                                                [&](Timestamp t) {
                                                  const auto it = index_of.find(t);
                                                  return it == index_of.end()

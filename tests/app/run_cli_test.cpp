@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "sgslam/io/detections_file.h"
+#include "sgslam/detection/detections_file.h"
 #include "support/test_support.h"
 #include "support/tiny_dataset.h"
 

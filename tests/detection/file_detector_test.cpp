@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "sgslam/common/error.h"
-#include "sgslam/io/detections_file.h"
+#include "sgslam/detection/detections_file.h"
 #include "sgslam/synth/writer.h"
 #include "support/test_support.h"
 

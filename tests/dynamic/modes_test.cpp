@@ -143,5 +143,34 @@ TEST(Modes, ConfigChecksAndModeNames) {
   EXPECT_EQ(ParseMode("sg"), Mode::kSg);
 }
 
+// Rendered static room: pairs whose LK match agrees with the ground truth (within
+// 0.5 px of the reprojection through the true depth and pose) lie within 1 px of
+// their epipolar lines.
+TEST(Epipolar, CorrectPairsOfAStaticSceneAreWithinOnePixel) {
+  const test::FramePair p = test::MakePair("static", 40);
+  const std::vector<cv::KeyPoint> keys = test::DetectKeypoints(p.cur_gray);
+  DynamicConfig c;
+  c.mode = "geometric";
+  const RejectionResult r = RejectDynamicFeatures(p.prev_gray, p.cur_gray, keys, {}, {}, c);
+  ASSERT_TRUE(r.fundamental);
+  const SE3 T_prev_cur = p.T_cur_prev.Inverse();
+  std::vector<double> d;
+  for (size_t i = 0; i < keys.size(); ++i) {
+    const KeypointVerdict& v = r.keypoints[i];
+    const float z = p.cur_depth.at<float>(cvRound(keys[i].pt.y), cvRound(keys[i].pt.x));
+    if (v.pair != PairStatus::kOk || z <= 0) continue;
+    const Eigen::Vector3d X((keys[i].pt.x - p.K.cx) / p.K.fx * z, (keys[i].pt.y - p.K.cy) / p.K.fy * z, z);
+    const Eigen::Vector3d Xp = T_prev_cur * X;
+    const Eigen::Vector2d expected(p.K.fx * Xp.x() / Xp.z() + p.K.cx, p.K.fy * Xp.y() / Xp.z() + p.K.cy);
+    if ((expected - Eigen::Vector2d(v.prev.x, v.prev.y)).norm() < 0.5) d.push_back(v.distance);
+  }
+  ASSERT_GT(d.size(), 500u);
+  std::sort(d.begin(), d.end());
+  std::printf("static pairs: %zu correct, epipolar distance median %.3f, p99 %.3f, max %.3f px\n", d.size(),
+              d[d.size() / 2], d[d.size() * 99 / 100], d.back());
+  EXPECT_LT(d.back(), 1.0);
+  EXPECT_LT(d[d.size() / 2], 0.25);
+}
+
 }  // namespace
 }  // namespace sgslam::dynamic

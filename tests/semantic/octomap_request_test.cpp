@@ -53,7 +53,7 @@ TEST(OctoMapRequest, SequentialWritesTheMapSoFarAtOnce) {
   const test::TempDir dir;
   const Config config = WallConfig();
   Map map;
-  SemanticMapper mapper(config, map, /*sequential=*/true);
+  SemanticMapper mapper(config.semantic, std::make_shared<Camera>(config.camera), ClassTable(config.detector), map, /*sequential=*/true);
   mapper.RequestOctoMap(dir.path() / "empty.bt");  // before the first keyframe: an empty map, still a valid file
   EXPECT_EQ(OccupiedLeaves(dir.path() / "empty.bt"), 0);
   SubmitWall(mapper, map, config, 0, 3);
@@ -69,7 +69,7 @@ TEST(OctoMapRequest, ParallelTheSemanticThreadWritesIt) {
   const test::TempDir dir;
   const Config config = WallConfig();
   Map map;
-  SemanticMapper mapper(config, map, /*sequential=*/false);
+  SemanticMapper mapper(config.semantic, std::make_shared<Camera>(config.camera), ClassTable(config.detector), map, /*sequential=*/false);
   SubmitWall(mapper, map, config, 0, 3);
   mapper.RequestOctoMap(dir.path() / "so_far.bt");
   SubmitWall(mapper, map, config, 3, 5);
@@ -86,7 +86,7 @@ TEST(OctoMapRequest, ParallelTheSemanticThreadWritesIt) {
 TEST(OctoMapRequest, AnUnwritablePathIsLoggedNotThrown) {
   const Config config = WallConfig();
   Map map;
-  SemanticMapper mapper(config, map, /*sequential=*/true);
+  SemanticMapper mapper(config.semantic, std::make_shared<Camera>(config.camera), ClassTable(config.detector), map, /*sequential=*/true);
   SubmitWall(mapper, map, config, 0, 1);
   EXPECT_NO_THROW(mapper.RequestOctoMap("/nonexistent-folder/so_far.bt"));
   EXPECT_EQ(mapper.octomaps_written(), 0u);

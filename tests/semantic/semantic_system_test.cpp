@@ -13,6 +13,7 @@
 #include <shared_mutex>
 
 #include "sgslam/eval/mask_score.h"
+#include "sgslam/eval/semantic_score.h"
 #include "sgslam/io/frame_stream.h"
 #include "sgslam/io/text_file.h"
 #include <opencv2/imgcodecs.hpp>
@@ -33,7 +34,7 @@ struct Result {
   std::vector<Rgb> colours;
   std::vector<ObjectEstimate> objects;  // in the ground-truth world frame
   std::size_t occupied_leaves = 0;
-  SemanticMapper::OctoMapTruth path;  // the walkers' paths in the OctoMap (masks in the sequence)
+  eval::OctoMapTruth path;  // the walkers' paths in the OctoMap (masks in the sequence)
   Trajectory trajectory;
   SE3 T_gtw_map;
 };
@@ -55,7 +56,7 @@ Result RunOn(const fs::path& dir, const fs::path& octomap_out = {}) {
   const eval::MaskIndex masks(dir);
   std::map<Timestamp, std::size_t> index_of;
   for (std::size_t i = 0; i < dataset.size(); ++i) index_of[dataset.frames()[i].t_rgb] = i;
-  r.path = system.semantic()->ScoreOctoMap([&](Timestamp t) { return masks.Load(t).value_or(cv::Mat()); },
+  r.path = eval::ScoreOctoMap(*system.semantic(), [&](Timestamp t) { return masks.Load(t).value_or(cv::Mat()); },
                                            [&](Timestamp t) { return dataset.Load(index_of.at(t), rc.config.camera).depth; });
   if (!octomap_out.empty()) system.semantic()->octomap().Write(octomap_out);
   r.trajectory = system.FrameTrajectory();

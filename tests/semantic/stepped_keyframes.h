@@ -26,7 +26,7 @@ inline SteppedCloud ExportSteppedKeyframes(const Config& config, const std::vect
                                            const std::vector<std::vector<Detection>>& boxes = {},
                                            std::unique_ptr<Detector> keyframe_detector = nullptr) {
   Map map;
-  SemanticMapper mapper(config, map, /*sequential=*/true, std::move(keyframe_detector));
+  SemanticMapper mapper(config.semantic, std::make_shared<Camera>(config.camera), ClassTable(config.detector), map, /*sequential=*/true, std::move(keyframe_detector));
   const auto camera = std::make_shared<Camera>(config.camera);
   const auto scale = std::make_shared<ScaleLevels>(features::MakeScaleLevels(1.2, 8));
   const cv::Mat bgr(depths.at(0).size(), CV_8UC3, cv::Scalar(90, 120, 150));

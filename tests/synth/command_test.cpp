@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
-#include "sgslam/io/detections_file.h"
+#include "sgslam/detection/detections_file.h"
 #include "sgslam/io/trajectory.h"
 #include "sgslam/io/tum_dataset.h"
 #include "sgslam/system/run_config.h"

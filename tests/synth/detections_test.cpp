@@ -3,7 +3,7 @@
 #include <map>
 #include <set>
 
-#include "sgslam/io/detections_file.h"
+#include "sgslam/detection/detections_file.h"
 #include "sgslam/synth/shapes.h"
 #include "sgslam/synth/sequence.h"
 #include "support/test_support.h"

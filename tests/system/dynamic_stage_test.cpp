@@ -9,6 +9,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "dynamic/dynamic_test_scene.h"
+#include "sgslam/camera/camera.h"
+#include "sgslam/config/config.h"
 #include "sgslam/system/dynamic_stage.h"
 
 namespace sgslam {
@@ -52,7 +54,8 @@ Tally RunWalkers(int carry_frames) {
     const synth::RenderedFrame& f = dynamic::test::Frame("walkers", i);
     boxes[f.t] = synth::GroundTruthDetections(f, seq.scene());
   }
-  DynamicStage stage(config, std::make_unique<FlickeringDetector>(std::move(boxes)), /*sequential=*/true);
+  DynamicStage stage(config.dynamic, config.detector, std::make_shared<Camera>(config.camera),
+                     std::make_unique<FlickeringDetector>(std::move(boxes)), /*sequential=*/true);
   Tally tally;
   for (int i = kFirst; i < kFirst + kFrames; ++i) {
     const synth::RenderedFrame& f = dynamic::test::Frame("walkers", i);

@@ -7,7 +7,7 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "sgslam/config/config.h"
+#include "sgslam/camera/camera_config.h"
 
 namespace sgslam {
 

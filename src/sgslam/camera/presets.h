@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "sgslam/config/config.h"
+#include "sgslam/camera/camera_config.h"
 
 namespace sgslam {
 

@@ -6,7 +6,7 @@
 #include <map>
 #include <string>
 
-#include "sgslam/config/checker.h"
+#include "sgslam/common/config_checker.h"
 
 namespace sgslam {
 

@@ -2,7 +2,7 @@
 
 #include <cstdlib>
 
-#include "sgslam/io/detections_file.h"
+#include "sgslam/detection/detections_file.h"
 
 namespace sgslam {
 

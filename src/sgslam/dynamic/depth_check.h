@@ -31,12 +31,11 @@
 
 #include "sgslam/common/se3.h"
 #include "sgslam/dynamic/dynamic_config.h"
+#include "sgslam/geometry/pinhole.h"
 
 namespace sgslam::dynamic {
 
-struct Pinhole {
-  double fx = 0, fy = 0, cx = 0, cy = 0;  // px
-};
+using geometry::Pinhole;
 
 using UndistortFn = std::function<Eigen::Vector2d(const Eigen::Vector2d&)>;  // raw px -> undistorted px
 

@@ -8,7 +8,7 @@
 
 #include <string>
 
-#include "sgslam/config/checker.h"
+#include "sgslam/common/config_checker.h"
 
 namespace sgslam {
 

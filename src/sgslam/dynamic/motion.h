@@ -7,9 +7,7 @@
 //
 // Coordinates: depth is sampled at the raw (distorted) previous positions, as TUM
 // registers depth to the raw colour image; the geometry uses undistorted pixels.
-// RANSAC: cv::solvePnPRansac with SOLVEPNP_AP3P minimal sets (OpenCV seeds its
-// generator the same way on every call, so equal inputs give equal results), then
-// a Levenberg-Marquardt refit (cv::solvePnPRefineLM) on the inliers.
+// The PnP itself is geometry::SolvePnP.
 // Thread safety: a free function on const inputs.
 #pragma once
 
@@ -29,12 +27,6 @@ struct MotionEstimate {
   int pairs = 0;    // pairs with a valid previous depth the estimate was fitted on
   int inliers = 0;  // within config.motion_threshold px after the refit
 };
-
-// The PnP core, also used by tracking when it recovers: RANSAC on AP3P
-// minimal sets within `threshold` px, then the LM refit on its inliers. nullopt
-// when fewer than max(min_inliers, 6) points or min_inliers inliers.
-std::optional<SE3> SolvePnPMotion(const std::vector<cv::Point3f>& object, const std::vector<cv::Point2f>& image,
-                                  const Pinhole& K, int iterations, double threshold, int min_inliers);
 
 // prev_raw: previous positions as tracked (px, for the depth lookup); prev_un,
 // cur_un: the same pairs undistorted. use[i]: pair i may take part. nullopt when

@@ -197,17 +197,19 @@ RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>
     p2.emplace_back(cur_un[i].x, cur_un[i].y);
     preferred.push_back(use_motion[i]);
   }
-  r.fundamental = EstimateFundamental(p1, p2, preferred, config);  // line 3
+  r.fundamental = geometry::EstimateFundamental(  // line 3
+      p1, p2, preferred,
+      {config.ransac_threshold, config.ransac_confidence, config.ransac_iterations, config.min_static_pairs});
   if (r.fundamental) {
     for (size_t i = 0, k = 0; i < keys.size(); ++i) {
-      if (valid[i]) r.keypoints[i].distance = EpipolarDistance(r.fundamental->F_cur_prev, p1[k], p2[k]), ++k;
+      if (valid[i]) r.keypoints[i].distance = geometry::EpipolarDistance(r.fundamental->F_cur_prev, p1[k], p2[k]), ++k;
     }
     if (!r.fundamental->from_static) use_motion = valid;  // too few preferred pairs: all
     if (config.judge_appearance_pairs) {
       for (size_t i = 0; i < keys.size(); ++i) {
         if (flow.status[i] != PairStatus::kAppearance) continue;
         r.keypoints[i].loose_distance =
-            EpipolarDistance(r.fundamental->F_cur_prev, Eigen::Vector2d(prev_un[i].x, prev_un[i].y),
+            geometry::EpipolarDistance(r.fundamental->F_cur_prev, Eigen::Vector2d(prev_un[i].x, prev_un[i].y),
                              Eigen::Vector2d(cur_un[i].x, cur_un[i].y));
       }
     }

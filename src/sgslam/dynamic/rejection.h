@@ -44,10 +44,10 @@
 #include "sgslam/detection/detection.h"
 #include "sgslam/dynamic/depth_check.h"
 #include "sgslam/dynamic/dynamic_config.h"
-#include "sgslam/dynamic/epipolar.h"
 #include "sgslam/dynamic/flow.h"
 #include "sgslam/dynamic/motion.h"
 #include "sgslam/dynamic/regions.h"
+#include "sgslam/geometry/epipolar.h"
 
 namespace sgslam::dynamic {
 
@@ -108,7 +108,7 @@ struct RejectionResult {
   int kept = 0, rejected_geometry = 0, rejected_semantics = 0, rejected_depth = 0;
   int in_dynamic_boxes = 0;  // keypoints with w > 1
   int valid_pairs = 0;       // flow pairs that passed line 2
-  std::optional<FundamentalEstimate> fundamental;
+  std::optional<geometry::FundamentalEstimate> fundamental;
   std::optional<MotionEstimate> motion;  // PnP motion of the RGB-D check
   bool depth_ignored = false;            // the check flagged more than config.depth_max_share: ignored
   double eps_used = 0;  // px, eps_std after fallback relaxation

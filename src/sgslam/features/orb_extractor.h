@@ -15,7 +15,7 @@
 #include <opencv2/features2d.hpp>
 #include <vector>
 
-#include "sgslam/config/config.h"
+#include "sgslam/features/orb_config.h"
 #include "sgslam/features/fast_grid.h"
 #include "sgslam/features/orientation.h"
 #include "sgslam/features/pyramid.h"

@@ -12,7 +12,8 @@
 #include <opencv2/core.hpp>
 
 #include "sgslam/common/time.h"
-#include "sgslam/config/config.h"
+#include "sgslam/camera/camera_config.h"
+#include "sgslam/io/dataset_config.h"
 #include "sgslam/io/trajectory.h"
 
 namespace sgslam {

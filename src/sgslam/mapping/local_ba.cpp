@@ -20,12 +20,12 @@ bool LocalMapper::LocalBundleAdjustment(const std::shared_ptr<KeyFrame>& kf,
     std::shared_lock lock(map_.mutex());
     if (map_.keyframes().size() <= 2) return true;
     free.push_back(kf);
-    const auto max_free = static_cast<std::size_t>(config_.mapping.ba_max_local_keyframes);
+    const auto max_free = static_cast<std::size_t>(config_.ba_max_local_keyframes);
     for (const auto& k : kf->Covisibles(max_free - 1)) free.push_back(k);
   }
   optim::BaOptions options;
-  options.first_iterations = config_.mapping.ba_first_iterations;
-  options.second_iterations = config_.mapping.ba_second_iterations;
+  options.first_iterations = config_.ba_first_iterations;
+  options.second_iterations = config_.ba_second_iterations;
   return AdjustKeyFrames(free, options, interrupted, stats);
 }
 
@@ -41,8 +41,8 @@ MappingStats LocalMapper::GlobalBundleAdjustment() {
     }
   }
   optim::BaOptions options;
-  options.first_iterations = config_.mapping.final_ba_iterations;
-  options.second_iterations = config_.mapping.final_ba_iterations;
+  options.first_iterations = config_.final_ba_iterations;
+  options.second_iterations = config_.final_ba_iterations;
   stats.ba_done = true;
   AdjustKeyFrames(free, options, {}, stats);
   stats.ba_ms = stats.ms = watch.ElapsedMs();

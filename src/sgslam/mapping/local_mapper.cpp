@@ -5,13 +5,12 @@
 #include <shared_mutex>
 
 #include "sgslam/common/stats.h"
-#include "sgslam/features/matcher.h"
+#include "sgslam/matching/matcher.h"
 
 namespace sgslam {
 
-LocalMapper::LocalMapper(const Config& config, Map& map) : config_(config), map_(map) {
-  th_depth_ = config.camera.baseline_fx * config.camera.close_depth / config.camera.fx;
-}
+LocalMapper::LocalMapper(const MappingConfig& config, double close_depth, Map& map)
+    : config_(config), map_(map), th_depth_(close_depth) {}
 
 MappingStats LocalMapper::Process(const std::shared_ptr<KeyFrame>& kf, const std::function<bool()>& interrupted) {
   Stopwatch watch;
@@ -85,7 +84,7 @@ int LocalMapper::CullRecentPoints(const std::shared_ptr<KeyFrame>& kf) {
 
 int LocalMapper::SearchInNeighbors(const std::shared_ptr<KeyFrame>& kf) {
   std::unique_lock lock(map_.mutex());
-  const int n = config_.mapping.fusion_neighbours;
+  const int n = config_.fusion_neighbours;
   std::vector<std::shared_ptr<KeyFrame>> targets;
   std::set<std::uint64_t> seen = {kf->id};
   for (const auto& k : kf->Covisibles(static_cast<std::size_t>(n))) {
@@ -143,7 +142,7 @@ int LocalMapper::CullKeyFrames(const std::shared_ptr<KeyFrame>& kf) {
       }
       if (others >= 3) ++redundant;
     }
-    if (points > 0 && redundant > config_.mapping.redundant_ratio * points) {
+    if (points > 0 && redundant > config_.redundant_ratio * points) {
       k->SetBad(map_);
       ++culled;
     }

@@ -12,8 +12,8 @@
 #include <list>
 #include <memory>
 
-#include "sgslam/config/config.h"
 #include "sgslam/map/map.h"
+#include "sgslam/mapping/mapping_config.h"
 #include "sgslam/optim/local_ba.h"
 
 namespace sgslam {
@@ -31,7 +31,8 @@ struct MappingStats {
 
 class LocalMapper {
  public:
-  LocalMapper(const Config& config, Map& map);
+  // close_depth: m, the close/far limit of depth points (CameraConfig::close_depth_m).
+  LocalMapper(const MappingConfig& config, double close_depth, Map& map);
 
   // `interrupted` is polled during the expensive steps: true when another
   // keyframe waits, so fusion and BA are skipped or aborted (ORB-SLAM2).
@@ -53,9 +54,9 @@ class LocalMapper {
                        const std::function<bool()>& interrupted, MappingStats& stats);
   int CullKeyFrames(const std::shared_ptr<KeyFrame>& kf);
 
-  const Config config_;
+  const MappingConfig config_;
   Map& map_;
-  double th_depth_ = 0;  // m, close/far limit of depth points
+  const double th_depth_;  // m, close/far limit of depth points
   std::list<std::shared_ptr<MapPoint>> recent_points_;
 };
 

@@ -5,9 +5,10 @@
 #include <mutex>
 #include <shared_mutex>
 
-#include "sgslam/features/matcher.h"
+#include "sgslam/matching/matcher.h"
 #include "sgslam/mapping/local_mapper.h"
-#include "sgslam/mapping/triangulation.h"
+#include "sgslam/geometry/epipolar.h"
+#include "sgslam/geometry/triangulation.h"
 
 namespace sgslam {
 
@@ -40,16 +41,17 @@ int LocalMapper::CreateNewMapPoints(const std::shared_ptr<KeyFrame>& kf) {
     std::shared_lock lock(map_.mutex());
     const Features& f1 = *kf->features;
     const Camera& cam = *f1.camera;
+    const geometry::Pinhole K{cam.fx(), cam.fy(), cam.cx(), cam.cy()};
     const double baseline = cam.baseline_fx() / cam.fx();
     const SE3 T_1w = kf->T_c_w();
     const Eigen::Matrix3d R_w1 = kf->T_w_c().rotation();
     const double ratio_factor = 1.5 * f1.scale->factor;
-    for (const auto& kf2 : kf->Covisibles(static_cast<std::size_t>(config_.mapping.triangulation_neighbours))) {
+    for (const auto& kf2 : kf->Covisibles(static_cast<std::size_t>(config_.triangulation_neighbours))) {
       if ((kf2->center() - kf->center()).norm() < baseline) continue;  // depth beats this parallax
       const Features& f2 = *kf2->features;
       const SE3 T_2w = kf2->T_c_w();
       const Eigen::Matrix3d R_w2 = kf2->T_w_c().rotation();
-      for (const auto& [i1, i2] : matcher::SearchForTriangulation(*kf, *kf2, FundamentalMatrix(T_1w, T_2w, cam))) {
+      for (const auto& [i1, i2] : matcher::SearchForTriangulation(*kf, *kf2, geometry::FundamentalMatrix(T_2w * T_1w.Inverse(), K))) {
         const Eigen::Vector3d x1((f1.keys_un[i1].pt.x - cam.cx()) / cam.fx(), (f1.keys_un[i1].pt.y - cam.cy()) / cam.fy(), 1);
         const Eigen::Vector3d x2((f2.keys_un[i2].pt.x - cam.cx()) / cam.fx(), (f2.keys_un[i2].pt.y - cam.cy()) / cam.fy(), 1);
         const Eigen::Vector3d ray1 = R_w1 * x1, ray2 = R_w2 * x2;
@@ -60,7 +62,7 @@ int LocalMapper::CreateNewMapPoints(const std::shared_ptr<KeyFrame>& kf) {
         const double cos_stereo = std::min(cos_stereo1, cos_stereo2);
         Eigen::Vector3d p_w;
         if (cos_rays < cos_stereo && cos_rays > 0 && (stereo1 || stereo2 || cos_rays < 0.9998)) {
-          const auto t = Triangulate(x1, x2, T_1w, T_2w);
+          const auto t = geometry::Triangulate(x1, x2, T_1w, T_2w);
           if (!t) continue;
           p_w = *t;
         } else if (stereo1 && cos_stereo1 < cos_stereo2) {

@@ -7,7 +7,7 @@
 
 #include <string>
 
-#include "sgslam/config/checker.h"
+#include "sgslam/common/config_checker.h"
 
 namespace sgslam {
 

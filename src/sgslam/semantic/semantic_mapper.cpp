@@ -8,7 +8,6 @@
 #include <optional>
 #include <shared_mutex>
 #include <unordered_map>
-#include <unordered_set>
 
 #include <spdlog/spdlog.h>
 
@@ -57,20 +56,19 @@ std::optional<cv::Point> PooledPixel(cv::Size pooled, const Camera& camera, cons
 
 }  // namespace
 
-SemanticMapper::SemanticMapper(const Config& config, const Map& map, bool sequential,
-                               std::unique_ptr<Detector> keyframe_detector)
+SemanticMapper::SemanticMapper(const SemanticConfig& config, std::shared_ptr<const Camera> camera, ClassTable classes,
+                               const Map& map, bool sequential, std::unique_ptr<Detector> keyframe_detector)
     : config_(config),
       map_(map),
       sequential_(sequential),
-      camera_(std::make_shared<Camera>(config.camera)),
+      camera_(std::move(camera)),
       rays_(*camera_),
-      classes_(config.detector),
+      classes_(std::move(classes)),
       keyframe_detector_(std::move(keyframe_detector)),
       has_keyframe_detector_(keyframe_detector_ != nullptr),
-      octomap_(config.semantic),
-      objects_(config.semantic,
-               [cam = camera_](const Eigen::Vector3d& p_c) { return cam->Distort(cam->Project(p_c)); },
-               cv::Size(config.camera.width, config.camera.height)) {
+      octomap_(config),
+      objects_(config, [cam = camera_](const Eigen::Vector3d& p_c) { return cam->Distort(cam->Project(p_c)); },
+               cv::Size(camera_->width(), camera_->height())) {
   if (!sequential_) thread_ = std::thread([this] { Loop(); });
 }
 
@@ -85,7 +83,7 @@ void SemanticMapper::Submit(SemanticInput input) {
   {
     std::lock_guard lock(mutex_);
     if (stop_) return;
-    if (queue_.size() >= static_cast<std::size_t>(config_.semantic.queue_size)) {
+    if (queue_.size() >= static_cast<std::size_t>(config_.queue_size)) {
       queue_.pop_front();  // behind: the oldest keyframe's views are the most covered by later ones
       ++stats_.dropped;
     }
@@ -96,19 +94,19 @@ void SemanticMapper::Submit(SemanticInput input) {
 
 void SemanticMapper::AddFrame(std::uint64_t frame_id, const SE3& T_c_w, const std::vector<Detection>& detections,
                               const cv::Mat& depth_raw) {
-  if (config_.semantic.box_window <= 0) return;
+  if (config_.box_window <= 0) return;
   FrameBoxes f;
   f.frame_id = frame_id;
   f.T_c_w = T_c_w;
   for (const Detection& d : detections) {
     if (!classes_.is_dynamic(d.class_name)) continue;
     f.boxes.push_back(d);
-    f.depth.push_back(BoxMedianDepth(depth_raw, config_.camera.depth_factor, d.box));
+    f.depth.push_back(BoxMedianDepth(depth_raw, camera_->config().depth_factor, d.box));
   }
   {
     std::lock_guard lock(mutex_);
     frames_.push_back(std::move(f));
-    while (frames_.size() > static_cast<std::size_t>(config_.semantic.box_window_history)) frames_.pop_front();
+    while (frames_.size() > static_cast<std::size_t>(config_.box_window_history)) frames_.pop_front();
     last_frame_id_ = frame_id;
   }
   if (sequential_) {
@@ -119,25 +117,25 @@ void SemanticMapper::AddFrame(std::uint64_t frame_id, const SE3& T_c_w, const st
 }
 
 bool SemanticMapper::WindowComplete(std::uint64_t keyframe_frame_id) const {
-  const auto window = static_cast<std::uint64_t>(std::max(0, config_.semantic.box_window));
+  const auto window = static_cast<std::uint64_t>(std::max(0, config_.box_window));
   return window == 0 || (last_frame_id_ && *last_frame_id_ >= keyframe_frame_id + window);
 }
 
 std::vector<CarriedBox> SemanticMapper::CarriedBoxes(std::uint64_t keyframe_frame_id) const {
   std::vector<CarriedBox> out;
-  const int window = config_.semantic.box_window;
+  const int window = config_.box_window;
   if (window <= 0) return out;
   const auto own = std::find_if(frames_.begin(), frames_.end(),
                                 [&](const FrameBoxes& f) { return f.frame_id == keyframe_frame_id; });
   if (own == frames_.end()) return out;  // older than the history: its own boxes only
-  const cv::Size image(config_.camera.width, config_.camera.height);
+  const cv::Size image(camera_->width(), camera_->height());
   for (const FrameBoxes& f : frames_) {
     const auto distance = static_cast<double>(f.frame_id > keyframe_frame_id ? f.frame_id - keyframe_frame_id
                                                                              : keyframe_frame_id - f.frame_id);
     if (f.frame_id == keyframe_frame_id || distance > window || f.boxes.empty()) continue;
     const std::vector<CarriedBox> carried = CarryBoxes(f, own->T_c_w, *camera_, image,
-                                                       config_.semantic.box_window_growth * distance,
-                                                       config_.semantic.box_window_max_area);
+                                                       config_.box_window_growth * distance,
+                                                       config_.box_window_max_area);
     out.insert(out.end(), carried.begin(), carried.end());
   }
   return out;
@@ -194,7 +192,7 @@ void SemanticMapper::WriteLiveOctoMap(const std::filesystem::path& path) {
 void SemanticMapper::Loop() {
   // The map is for later use; poses are for now: on two cores the semantic work
   // takes only the time tracking and local mapping leave (Linux: per-thread nice).
-  if (config_.semantic.low_priority) setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 19);
+  if (config_.low_priority) setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 19);
   for (;;) {
     SemanticInput input;
     std::vector<CarriedBox> carried;
@@ -223,7 +221,7 @@ void SemanticMapper::Loop() {
 
 void SemanticMapper::ProcessKeyFrame(const SemanticInput& input, const std::vector<CarriedBox>& carried) {
   const Stopwatch total;
-  const SemanticConfig& c = config_.semantic;
+  const SemanticConfig& c = config_;
   const KeyFrame& kf = *input.keyframe;
   const Features& f = *kf.features;
   SE3 T_w_c;
@@ -252,10 +250,10 @@ void SemanticMapper::ProcessKeyFrame(const SemanticInput& input, const std::vect
   // box would mark the background behind a person as seen moving).
   cv::Mat surface;
   const bool seen_moving = c.seen_moving_ratio > 0;
-  cv::Mat mask = DynamicPixelMask(input.depth, config_.camera.depth_factor, movers, classes_, f.keys, f.dynamic,
+  cv::Mat mask = DynamicPixelMask(input.depth, camera_->config().depth_factor, movers, classes_, f.keys, f.dynamic,
                                   c, f.unjudged, seen_moving ? &surface : nullptr);
-  MaskCarriedBoxes(carried, input.depth, config_.camera.depth_factor, c.box_window_band, mask);
-  if (seen_moving) MaskCarriedBoxes(carried, input.depth, config_.camera.depth_factor, c.seen_moving_band, surface);
+  MaskCarriedBoxes(carried, input.depth, camera_->config().depth_factor, c.box_window_band, mask);
+  if (seen_moving) MaskCarriedBoxes(carried, input.depth, camera_->config().depth_factor, c.seen_moving_band, surface);
   if (c.cloud_border > 0) {
     // No keypoint (ORB's edge margin) and so no motion evidence reaches the border,
     // and the detector misses the people it cuts: it stays out of the map.
@@ -269,16 +267,16 @@ void SemanticMapper::ProcessKeyFrame(const SemanticInput& input, const std::vect
   KeyFrameCloud cloud;
   cloud.keyframe = input.keyframe;
   cloud.points_c = VoxelDownsample(
-      BackProject(input.bgr, input.depth, config_.camera.depth_factor, mask, rays_, c.cloud_stride, c), c.cloud_voxel);
+      BackProject(input.bgr, input.depth, camera_->config().depth_factor, mask, rays_, c.cloud_stride, c), c.cloud_voxel);
   if (c.consistency_filter || seen_moving) {
-    cloud.depth_pooled = MinPooledDepth(input.depth, config_.camera.depth_factor, c.consistency_pool);
+    cloud.depth_pooled = MinPooledDepth(input.depth, camera_->config().depth_factor, c.consistency_pool);
   }
-  if (seen_moving) cloud.moving_pooled = MinPooledDepth(input.depth, config_.camera.depth_factor, c.consistency_pool, surface);
+  if (seen_moving) cloud.moving_pooled = MinPooledDepth(input.depth, camera_->config().depth_factor, c.consistency_pool, surface);
   ms.cloud = stage.ElapsedMs();
 
   stage.Restart();
   std::vector<ColoredPoint> ray_points =
-      BackProject(input.bgr, input.depth, config_.camera.depth_factor, mask, rays_, c.octomap_stride, c);
+      BackProject(input.bgr, input.depth, camera_->config().depth_factor, mask, rays_, c.octomap_stride, c);
   octomap_.Insert(cloud.points_c, ray_points, T_w_c);
   ms.octomap = stage.ElapsedMs();
   clouds_.push_back(std::move(cloud));
@@ -293,7 +291,7 @@ void SemanticMapper::ProcessKeyFrame(const SemanticInput& input, const std::vect
   };
   const std::vector<double> object_depths =
       std::any_of(f.detections.begin(), f.detections.end(), gives_object)
-          ? ObjectDepths(f.detections, input.depth, config_.camera.depth_factor, c)
+          ? ObjectDepths(f.detections, input.depth, camera_->config().depth_factor, c)
           : std::vector<double>();
   for (std::size_t i = 0; i < f.detections.size(); ++i) {
     const Detection& d = f.detections[i];
@@ -301,7 +299,7 @@ void SemanticMapper::ProcessKeyFrame(const SemanticInput& input, const std::vect
     std::vector<OtherBox> others;
     for (std::size_t j = 0; j < f.detections.size(); ++j)
       if (j != i) others.push_back({f.detections[j].box, object_depths[j]});
-    auto obs = ObserveObject(d, input.depth, config_.camera.depth_factor, rays_, c, others);
+    auto obs = ObserveObject(d, input.depth, camera_->config().depth_factor, rays_, c, others);
     if (!obs) continue;
     obs->keyframe = input.keyframe;
     const int b = c.object_border;
@@ -321,7 +319,7 @@ void SemanticMapper::ProcessKeyFrame(const SemanticInput& input, const std::vect
 void SemanticMapper::FilterAndRebuild() {
   if (filtered_) return;
   filtered_ = true;
-  const SemanticConfig& c = config_.semantic;
+  const SemanticConfig& c = config_;
   if (!c.consistency_filter && c.min_view_support <= 1 && c.seen_moving_ratio <= 0) {
     octomap_.Finalize();
     return;
@@ -341,7 +339,7 @@ void SemanticMapper::FilterAndRebuild() {
 }
 
 void SemanticMapper::DropPointsOtherViewsContradict(const std::vector<SE3>& T_c_w, const std::vector<SE3>& T_w_c) {
-  const SemanticConfig& c = config_.semantic;
+  const SemanticConfig& c = config_;
   const bool seen_moving = c.seen_moving_ratio > 0;
   for (std::size_t i = 0; i < clouds_.size(); ++i) {
     std::vector<ColoredPoint> kept;
@@ -382,7 +380,7 @@ void SemanticMapper::DropPointsOtherViewsContradict(const std::vector<SE3>& T_c_
 
 void SemanticMapper::DropPointsSeenOnce(const std::vector<SE3>& T_w_c) {
   // Which keyframes put a point into each OctoMap-sized voxel.
-  const double inv = 1.0 / config_.semantic.octomap_resolution;
+  const double inv = 1.0 / config_.octomap_resolution;
   std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> views;
   std::size_t total = 0;
   for (const KeyFrameCloud& k : clouds_) total += k.points_c.size();
@@ -398,7 +396,7 @@ void SemanticMapper::DropPointsSeenOnce(const std::vector<SE3>& T_w_c) {
   }
   // A point stays when enough keyframes put points into its voxel or the 26 around
   // it (pose and depth noise spread one surface over neighbouring voxels).
-  const auto need = static_cast<std::size_t>(config_.semantic.min_view_support);
+  const auto need = static_cast<std::size_t>(config_.min_view_support);
   std::vector<std::uint32_t> seen;
   for (std::size_t i = 0; i < clouds_.size(); ++i) {
     std::vector<ColoredPoint> kept;
@@ -435,14 +433,13 @@ void SemanticMapper::ExportCloud(std::vector<Eigen::Vector3d>& points, std::vect
     const SE3 T_w_c = k.keyframe->PlacedT_c_w().Inverse();
     for (const ColoredPoint& p : k.points_c) world.push_back({(T_w_c * p.p.cast<double>()).cast<float>(), p.rgb});
   }
-  const std::vector<ColoredPoint> merged = VoxelDownsample(world, config_.semantic.cloud_voxel);
+  const std::vector<ColoredPoint> merged = VoxelDownsample(world, config_.cloud_voxel);
   points.clear();
   colours.clear();
   std::size_t freed = 0;
   for (const ColoredPoint& p : merged) {
     const Eigen::Vector3d x = p.p.cast<double>();
-    // A voxel that later views saw through held something that moved away.
-    if (config_.semantic.free_space_filter && octomap_.IsFree(x)) {
+    if (!Exported(x)) {
       ++freed;
       continue;
     }
@@ -454,63 +451,16 @@ void SemanticMapper::ExportCloud(std::vector<Eigen::Vector3d>& points, std::vect
   stats_.cloud_points_freed = freed;
 }
 
-SemanticMapper::CloudTruth SemanticMapper::ScoreCloud(const std::function<cv::Mat(Timestamp)>& mask_of) const {
-  CloudTruth t;
-  for (const KeyFrameCloud& k : clouds_) {
-    const cv::Mat mask = mask_of(k.keyframe->t);
-    if (mask.empty()) continue;
-    ++t.keyframes;
-    const SE3 T_w_c = k.keyframe->PlacedT_c_w().Inverse();
-    for (const ColoredPoint& p : k.points_c) {
-      if (config_.semantic.free_space_filter && octomap_.IsFree(T_w_c * p.p.cast<double>())) continue;
-      const Eigen::Vector2d uv = camera_->Distort(camera_->Project(p.p.cast<double>()));
-      const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
-      if (u < 0 || v < 0 || u >= mask.cols || v >= mask.rows) continue;
-      ++t.points;
-      t.moving += mask.at<std::uint8_t>(v, u) != 0;
-    }
-  }
-  return t;
+std::vector<SemanticMapper::KeyFramePoints> SemanticMapper::KeyFrameClouds() const {
+  std::vector<KeyFramePoints> out;
+  out.reserve(clouds_.size());
+  for (const KeyFrameCloud& k : clouds_) out.push_back({k.keyframe, &k.points_c});
+  return out;
 }
 
-SemanticMapper::OctoMapTruth SemanticMapper::ScoreOctoMap(const std::function<cv::Mat(Timestamp)>& mask_of,
-                                                          const std::function<cv::Mat(Timestamp)>& depth_of,
-                                                          int stride) const {
-  OctoMapTruth t;
-  const double inv = 1.0 / octomap_.resolution();
-  std::unordered_set<std::uint64_t> moving, static_cells;
-  const SemanticConfig& c = config_.semantic;
-  for (const KeyFrameCloud& k : clouds_) {
-    const cv::Mat mask = mask_of(k.keyframe->t), depth = depth_of(k.keyframe->t);
-    if (mask.empty() || depth.empty() || mask.size() != depth.size() || depth.type() != CV_16UC1) continue;
-    ++t.keyframes;
-    const SE3 T_w_c = k.keyframe->PlacedT_c_w().Inverse();
-    for (int v = 0; v < depth.rows; v += stride) {
-      for (int u = 0; u < depth.cols; u += stride) {
-        const double z = depth.at<std::uint16_t>(v, u) / config_.camera.depth_factor;
-        if (z < c.depth_min || z > c.depth_max) continue;
-        const cv::Vec2f& r = rays_.at(u, v);
-        const Eigen::Vector3d p = T_w_c * Eigen::Vector3d(r[0] * z, r[1] * z, z);
-        (mask.at<std::uint8_t>(v, u) != 0 ? moving : static_cells).insert(VoxelCell::Of(p, inv).Key());
-      }
-    }
-  }
-  for (std::uint64_t m : moving) {
-    // A path cell has no static cell among itself and its 26 neighbours.
-    const VoxelCell cell = VoxelCell::FromKey(m);
-    bool near_static = false;
-    for (int dx = -1; dx <= 1 && !near_static; ++dx) {
-      for (int dy = -1; dy <= 1 && !near_static; ++dy) {
-        for (int dz = -1; dz <= 1 && !near_static; ++dz) {
-          near_static = static_cells.count(cell.Shifted(dx, dy, dz).Key()) != 0;
-        }
-      }
-    }
-    if (near_static) continue;
-    ++t.path_cells;
-    t.occupied += octomap_.IsOccupied(cell.Centre(octomap_.resolution())) ? 1 : 0;
-  }
-  return t;
+bool SemanticMapper::Exported(const Eigen::Vector3d& p_w) const {
+  // A voxel that later views saw through held something that moved away.
+  return !(config_.free_space_filter && octomap_.IsFree(p_w));
 }
 
 std::vector<ObjectEstimate> SemanticMapper::ExportObjects(const SE3& T_out_w) const {

@@ -19,7 +19,6 @@
 
 #include <condition_variable>
 #include <deque>
-#include <functional>
 #include <filesystem>
 #include <memory>
 #include <mutex>
@@ -30,12 +29,13 @@
 #include <opencv2/core.hpp>
 
 #include "sgslam/common/time.h"
-#include "sgslam/config/config.h"
 #include "sgslam/detection/detector.h"
+#include "sgslam/detection/detector_config.h"
 #include "sgslam/semantic/box_window.h"
 #include "sgslam/semantic/cloud.h"
 #include "sgslam/semantic/objects.h"
 #include "sgslam/semantic/octomap_builder.h"
+#include "sgslam/semantic/semantic_config.h"
 
 namespace sgslam {
 
@@ -62,8 +62,9 @@ class SemanticMapper {
   // keyframe_detector (optional): run on every keyframe's colour image; its
   // dynamic-class boxes join the keyframe's in the dynamic mask
   // (semantic.keyframe_model). Used by the semantic thread alone.
-  SemanticMapper(const Config& config, const Map& map, bool sequential,
-                 std::unique_ptr<Detector> keyframe_detector = nullptr);
+  // camera: the keyframes' camera; classes: which detections are movers.
+  SemanticMapper(const SemanticConfig& config, std::shared_ptr<const Camera> camera, ClassTable classes,
+                 const Map& map, bool sequential, std::unique_ptr<Detector> keyframe_detector = nullptr);
   ~SemanticMapper();
   SemanticMapper(const SemanticMapper&) = delete;
   SemanticMapper& operator=(const SemanticMapper&) = delete;
@@ -92,23 +93,17 @@ class SemanticMapper {
   const OctoMapBuilder& octomap() const { return octomap_; }
   SemanticStats stats() const;
 
-  // Against ground-truth dynamic masks (mask_of: the mask of a timestamp, empty when
-  // none): how many points of the exported cloud come from moving pixels, each
-  // re-projected into the keyframe it came from. After ExportCloud().
-  struct CloudTruth {
-    std::size_t keyframes = 0, points = 0, moving = 0;
+  // After Finish(), for evaluation (eval/semantic_score.h): each mapped keyframe
+  // with its static points in its camera frame (before the export's free-space
+  // rule), whether a world point survives that rule, and what the map was made with.
+  struct KeyFramePoints {
+    std::shared_ptr<KeyFrame> keyframe;
+    const std::vector<ColoredPoint>* points_c;
   };
-  CloudTruth ScoreCloud(const std::function<cv::Mat(Timestamp)>& mask_of) const;
-  // The movers' swept volume in the OctoMap: the cells (at its resolution) that the
-  // keyframes' ground-truth moving pixels fall in with the final poses, less those
-  // within one cell of any static pixel's (the floor under a foot, the desk behind
-  // a hand: noise, not the path), and how many of them ended occupied. depth_of:
-  // the raw depth image of a timestamp. After ExportCloud().
-  struct OctoMapTruth {
-    std::size_t keyframes = 0, path_cells = 0, occupied = 0;
-  };
-  OctoMapTruth ScoreOctoMap(const std::function<cv::Mat(Timestamp)>& mask_of,
-                            const std::function<cv::Mat(Timestamp)>& depth_of, int stride = 2) const;
+  std::vector<KeyFramePoints> KeyFrameClouds() const;
+  bool Exported(const Eigen::Vector3d& p_w) const;
+  const SemanticConfig& config() const { return config_; }
+  const Camera& camera() const { return *camera_; }
 
  private:
   void Loop();
@@ -118,7 +113,7 @@ class SemanticMapper {
   bool WindowComplete(std::uint64_t keyframe_frame_id) const;  // under mutex_
   void ProcessReady(bool all);                                 // sequential mode
 
-  const Config config_;
+  const SemanticConfig config_;
   const Map& map_;
   const bool sequential_;
   std::shared_ptr<const Camera> camera_;

@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "sgslam/common/error.h"
-#include "sgslam/io/detections_file.h"
+#include "sgslam/detection/detections_file.h"
 #include "sgslam/io/text_file.h"
 #include "sgslam/io/trajectory.h"
 #include "sgslam/synth/sequence.h"

@@ -10,15 +10,17 @@
 
 namespace sgslam {
 
-DynamicStage::DynamicStage(const Config& config, std::unique_ptr<Detector> detector, bool sequential)
+DynamicStage::DynamicStage(const DynamicConfig& config, const DetectorConfig& detection,
+                           std::shared_ptr<const Camera> camera, std::unique_ptr<Detector> detector, bool sequential)
     : config_(config),
-      mode_(dynamic::ParseMode(config.dynamic.mode)),
+      mode_(dynamic::ParseMode(config.mode)),
       wants_detector_(mode_ == dynamic::Mode::kSemantic || mode_ == dynamic::Mode::kSg),
-      camera_(std::make_shared<Camera>(config.camera)),
-      classes_(config.detector),
-      carrier_(config.dynamic.carry_frames, config.dynamic.carry_iou,
-               [table = ClassTable(config.detector)](const std::string& name) { return table.is_dynamic(name); }) {
-  if (camera_->has_distortion() && config.dynamic.undistort_pairs && mode_ != dynamic::Mode::kNone &&
+      camera_(std::move(camera)),
+      classes_(detection),
+      timeout_(detection.timeout_ms),
+      carrier_(config.carry_frames, config.carry_iou,
+               [table = ClassTable(detection)](const std::string& name) { return table.is_dynamic(name); }) {
+  if (camera_->has_distortion() && config.undistort_pairs && mode_ != dynamic::Mode::kNone &&
       mode_ != dynamic::Mode::kSemantic) {
     undistort_ = std::make_shared<const dynamic::UndistortTable>(
         cv::Size(camera_->width(), camera_->height()),
@@ -29,7 +31,7 @@ DynamicStage::DynamicStage(const Config& config, std::unique_ptr<Detector> detec
     options.sequential = sequential;
     worker_ = std::make_unique<DetectionWorker>(std::move(detector), options);
   } else if (wants_detector_) {
-    spdlog::warn("mode {} without a detector: {}", config.dynamic.mode,
+    spdlog::warn("mode {} without a detector: {}", config.mode,
                  mode_ == dynamic::Mode::kSg ? "the epipolar test alone decides (as --mode geometric)"
                                              : "nothing is rejected (as --mode none)");
   }
@@ -49,7 +51,7 @@ std::vector<bool> DynamicStage::ShowMotion(const std::vector<cv::KeyPoint>& keys
   // there rejected so much that dyn_dev kept only 78 of 300 frames tracked.
   if (mode_ == dynamic::Mode::kSemantic) return std::vector<bool>(boxes.size(), false);
   constexpr int kMinKeypoints = 5;  // fewer in a box: no verdict, not carried
-  const DynamicConfig& c = config_.dynamic;
+  const DynamicConfig& c = config_;
   std::vector<bool> moving(boxes.size(), false);
   for (std::size_t b = 0; b < boxes.size(); ++b) {
     int inside = 0, evidence = 0;
@@ -72,10 +74,10 @@ std::vector<std::uint8_t> DynamicStage::JudgeFirstAgain(const dynamic::FlowFrame
   // with the boxes the first frame was judged by.
   std::vector<std::uint8_t> now_static(first_keys_.size(), 0);
   if (first_keys_.empty() || prev_depth_.empty()) return now_static;
-  const dynamic::PairSet pairs = dynamic::TrackPairs(cur, prev_, first_keys_, config_.dynamic, Undistort());
+  const dynamic::PairSet pairs = dynamic::TrackPairs(cur, prev_, first_keys_, config_, Undistort());
   const dynamic::DepthCheckInput depth = DepthInput(depth_raw, prev_depth_);
-  const dynamic::RejectionResult r = dynamic::JudgePairs(pairs, first_keys_, first_boxes_, weight, config_.dynamic,
-                                                         config_.dynamic.depth_check ? &depth : nullptr);
+  const dynamic::RejectionResult r = dynamic::JudgePairs(pairs, first_keys_, first_boxes_, weight, config_,
+                                                         config_.depth_check ? &depth : nullptr);
   for (std::size_t i = 0; i < first_keys_.size(); ++i) {
     now_static[i] = r.keypoints[i].kept && r.keypoints[i].why == dynamic::Why::kStatic;
   }
@@ -100,23 +102,23 @@ dynamic::DepthCheckInput DynamicStage::DepthInput(const cv::Mat& prev_depth, con
   dynamic::DepthCheckInput depth;
   depth.prev_depth = prev_depth;
   depth.cur_depth = cur_depth;
-  depth.depth_factor = config_.camera.depth_factor;
+  depth.depth_factor = camera_->config().depth_factor;
   depth.K = {camera_->fx(), camera_->fy(), camera_->cx(), camera_->cy()};
   return depth;
 }
 
 dynamic::PairSet DynamicStage::TrackFlow(const std::vector<cv::KeyPoint>& keys, dynamic::FlowFrame& cur) const {
   if (mode_ == dynamic::Mode::kSemantic) return {};
-  cur.pyramid = dynamic::BuildFlowPyramid(cur.gray, config_.dynamic);
+  cur.pyramid = dynamic::BuildFlowPyramid(cur.gray, config_);
   if (prev_.gray.empty()) return {};  // the first frame: no flow
-  return dynamic::TrackPairs(prev_, cur, keys, config_.dynamic, Undistort());
+  return dynamic::TrackPairs(prev_, cur, keys, config_, Undistort());
 }
 
 void DynamicStage::AwaitDetections(std::uint64_t frame_id, const dynamic::PairSet& pairs, cv::Size image,
                                    DynamicOutcome& out) {
   if (!worker_) return;
   const Stopwatch wait;
-  auto result = worker_->WaitResult(frame_id, std::chrono::milliseconds(config_.detector.timeout_ms));
+  auto result = worker_->WaitResult(frame_id, timeout_);
   out.wait_ms = wait.ElapsedMs();
   if (result) {
     out.detections = std::move(result->detections);
@@ -133,12 +135,12 @@ void DynamicStage::AwaitDetections(std::uint64_t frame_id, const dynamic::PairSe
 dynamic::RejectionResult DynamicStage::Judge(const dynamic::PairSet& pairs, const std::vector<cv::KeyPoint>& keys,
                                              const cv::Mat& depth_raw, cv::Size image, bool first,
                                              const std::vector<Detection>& detections) {
-  DynamicConfig dyn = config_.dynamic;
+  DynamicConfig dyn = config_;
   if (first && mode_ == dynamic::Mode::kSg) dyn.mode = "semantic";  // no flow yet: boxes are the only evidence
   std::optional<dynamic::DepthCheckInput> depth;
   if (dyn.depth_check && !prev_depth_.empty()) depth = DepthInput(prev_depth_, depth_raw);
   std::vector<Detection> judged;
-  const double max_area = config_.dynamic.max_box_area * image.area();
+  const double max_area = config_.max_box_area * image.area();
   for (const Detection& d : detections) {
     if (d.box.area() <= max_area) judged.push_back(d);
   }
@@ -164,7 +166,7 @@ DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, 
   const Stopwatch watch;
   if (!first || mode_ == dynamic::Mode::kSemantic || mode_ == dynamic::Mode::kSg) {
     const dynamic::RejectionResult r = Judge(pairs, keys, depth_raw, gray.size(), first, out.detections);
-    if (boxes_only_ && config_.dynamic.first_frame_rejudge && mode_ == dynamic::Mode::kSg) {
+    if (boxes_only_ && config_.first_frame_rejudge && mode_ == dynamic::Mode::kSg) {
       out.static_in_first = JudgeFirstAgain(cur, depth_raw, Weight());
     }
     out.unjudged.assign(keys.size(), 0);
@@ -177,14 +179,14 @@ DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, 
     out.rejected_semantics = r.rejected_semantics;
     out.rejected_depth = r.rejected_depth;
     out.judged = true;
-    prior_ = dynamic::MakeDynamicPrior(keys, r, gray.size(), config_.dynamic.prior_cell, &prior_,
-                                       config_.dynamic.prior_memory);
-    if (worker_ && config_.dynamic.carry_frames > 0) carrier_.Remember(out.detections, ShowMotion(keys, r, out.detections));
+    prior_ = dynamic::MakeDynamicPrior(keys, r, gray.size(), config_.prior_cell, &prior_,
+                                       config_.prior_memory);
+    if (worker_ && config_.carry_frames > 0) carrier_.Remember(out.detections, ShowMotion(keys, r, out.detections));
   } else {
     out.kept = static_cast<int>(keys.size());
   }
   out.reject_ms = flow_ms + watch.ElapsedMs();
-  boxes_only_ = first && mode_ == dynamic::Mode::kSg && worker_ != nullptr && config_.dynamic.first_frame_rejudge;
+  boxes_only_ = first && mode_ == dynamic::Mode::kSg && worker_ != nullptr && config_.first_frame_rejudge;
   if (boxes_only_) {
     first_keys_ = keys;
   } else {

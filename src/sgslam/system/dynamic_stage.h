@@ -26,11 +26,12 @@
 #include <opencv2/core.hpp>
 
 #include "sgslam/common/se3.h"
-#include "sgslam/config/config.h"
 #include "sgslam/detection/detection.h"
 #include "sgslam/detection/detection_worker.h"
 #include "sgslam/detection/detector.h"
+#include "sgslam/detection/detector_config.h"
 #include "sgslam/dynamic/box_carry.h"
+#include "sgslam/dynamic/dynamic_config.h"
 #include "sgslam/dynamic/rejection.h"
 #include "sgslam/dynamic/undistort_table.h"
 
@@ -59,8 +60,10 @@ struct DynamicOutcome {
 
 class DynamicStage {
  public:
-  // detector may be null. Throws ConfigError for an unknown mode.
-  DynamicStage(const Config& config, std::unique_ptr<Detector> detector, bool sequential);
+  // detection: the class table and the wait for the detector; detector may be
+  // null. Throws ConfigError for an unknown mode.
+  DynamicStage(const DynamicConfig& config, const DetectorConfig& detection, std::shared_ptr<const Camera> camera,
+               std::unique_ptr<Detector> detector, bool sequential);
 
   dynamic::Mode mode() const { return mode_; }
   // The frame just labelled was judged by its boxes alone (the first frame in sg
@@ -106,12 +109,13 @@ class DynamicStage {
   std::vector<bool> ShowMotion(const std::vector<cv::KeyPoint>& keys, const dynamic::RejectionResult& r,
                                const std::vector<Detection>& boxes) const;
 
-  const Config config_;
+  const DynamicConfig config_;
   const dynamic::Mode mode_;
   const bool wants_detector_;
   std::shared_ptr<const Camera> camera_;
   std::shared_ptr<const dynamic::UndistortTable> undistort_;  // raw -> undistorted flow pairs (distorted cameras)
   ClassTable classes_;
+  const std::chrono::milliseconds timeout_;  // detector.timeout_ms
   std::unique_ptr<DetectionWorker> worker_;
   dynamic::FlowFrame prev_;
   bool boxes_only_ = false;  // prev_ was judged by its boxes alone (see boxes_only())

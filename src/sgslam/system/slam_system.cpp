@@ -1,5 +1,6 @@
 #include "sgslam/system/slam_system.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <thread>
 
@@ -16,15 +17,46 @@
 
 namespace sgslam {
 
+namespace {
+
+// The map starts on a frame with min_init_points keypoints with depth, but never
+// needs more than half the ORB budget (a user lowering orb.features for speed).
+TrackingConfig TrackingSection(const Config& config) {
+  TrackingConfig tracking = config.tracking;
+  tracking.min_init_points = std::min(tracking.min_init_points, std::max(1, config.orb.features / 2));
+  return tracking;
+}
+
+// The semantic thread's second, larger detector (semantic.keyframe_model): only
+// where tracking's runs on the network backend (file detections are exact already;
+// without a detector no mode uses boxes). Missing model files: a warning, none.
+std::unique_ptr<Detector> MakeKeyFrameDetector(const Config& config, bool tracking_has_detector) {
+  if (config.semantic.keyframe_model.empty() || config.detector.backend != "dnn" || !tracking_has_detector) {
+    return nullptr;
+  }
+  DetectorConfig dc = config.detector;
+  dc.model = config.semantic.keyframe_model;
+  const std::filesystem::path dir = ResolveModelDir(dc.model_dir);
+  if (!DarknetModelPresent(dir, dc.model)) {
+    spdlog::warn("semantic.keyframe_model {}: no {}.cfg and .weights in {}; the map masks movers with tracking's "
+                 "boxes alone (set semantic.keyframe_model to \"\" to silence this)",
+                 dc.model, dc.model, dir.string());
+    return nullptr;
+  }
+  return std::make_unique<DnnDetector>(dc);  // a broken file is an error, as for tracking's
+}
+
+}  // namespace
+
 SlamSystem::SlamSystem(const Config& config, bool sequential, std::unique_ptr<Detector> detector)
     : config_(config),
       sequential_(sequential),
       camera_(std::make_shared<Camera>(config.camera)),
       scale_(std::make_shared<ScaleLevels>(features::MakeScaleLevels(config.orb.scale_factor, config.orb.levels))),
       extractor_(config.orb),
-      dynamic_(config, std::move(detector), sequential),
-      tracker_(config, map_),
-      mapper_(config, map_),
+      dynamic_(config.dynamic, config.detector, camera_, std::move(detector), sequential),
+      tracker_(TrackingSection(config), config.camera, map_),
+      mapper_(config.mapping, config.camera.close_depth_m(), map_),
       queue_(static_cast<std::size_t>(config.mapping.queue_size)) {
   // OpenCV's own worker threads (resize, blur, LK) would compete with local mapping
   // for the second core in every mode, not only when the detector sets it.
@@ -35,22 +67,8 @@ SlamSystem::SlamSystem(const Config& config, bool sequential, std::unique_ptr<De
   const bool spare_core = std::thread::hardware_concurrency() > 2 && !sequential_ && !dynamic_.has_detector();
   extractor_.set_threads(config.orb.threads > 0 ? config.orb.threads : (spare_core ? 2 : 1));
   if (config.semantic.enabled) {
-    // The larger keyframe model only where the fast one runs on the network backend
-    // (file detections are exact already; without a detector no mode uses boxes).
-    std::unique_ptr<Detector> keyframe_detector;
-    if (!config.semantic.keyframe_model.empty() && config.detector.backend == "dnn" && dynamic_.has_detector()) {
-      DetectorConfig dc = config.detector;
-      dc.model = config.semantic.keyframe_model;
-      const std::filesystem::path dir = ResolveModelDir(dc.model_dir);
-      if (DarknetModelPresent(dir, dc.model)) {
-        keyframe_detector = std::make_unique<DnnDetector>(dc);  // a broken file is an error, as for tracking's
-      } else {
-        spdlog::warn("semantic.keyframe_model {}: no {}.cfg and .weights in {}; the map masks movers with tracking's "
-                     "boxes alone (set semantic.keyframe_model to \"\" to silence this)",
-                     dc.model, dc.model, dir.string());
-      }
-    }
-    semantic_ = std::make_unique<SemanticMapper>(config, map_, sequential, std::move(keyframe_detector));
+    semantic_ = std::make_unique<SemanticMapper>(config.semantic, camera_, ClassTable(config.detector), map_,
+                                                 sequential, MakeKeyFrameDetector(config, dynamic_.has_detector()));
   }
   if (!sequential_) mapping_thread_ = std::thread([this] { MappingLoop(); });
 }
@@ -164,7 +182,8 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
       spdlog::info("first keyframe: {} keypoints its boxes rejected are static, judged with the next frame", cleared);
     }
   }
-  const TrackResult result = tracker_.Track(frame, idle, sequential_ ? 0 : queue_.size());
+  const bool full = !sequential_ && queue_.size() >= static_cast<std::size_t>(config_.mapping.queue_size);
+  const TrackResult result = tracker_.Track(frame, idle, full);
   report.state = result.state;
   report.matches = result.matches;
   report.inliers = result.inliers;

@@ -10,8 +10,8 @@
 
 namespace sgslam {
 
-bool Tracker::NeedNewKeyFrame(const Frame& frame, int inliers, bool mapping_idle, std::size_t mapping_queue) const {
-  if (mapping_queue >= static_cast<std::size_t>(config_.mapping.queue_size)) return false;
+bool Tracker::NeedNewKeyFrame(const Frame& frame, int inliers, bool mapping_idle, bool mapping_full) const {
+  if (mapping_full) return false;
   const std::size_t keyframes = map_.keyframes().size();
   const int min_obs = keyframes <= 2 ? 2 : 3;
   const int ref_tracked = reference_kf_ ? reference_kf_->TrackedMapPoints(min_obs) : 0;
@@ -26,12 +26,12 @@ bool Tracker::NeedNewKeyFrame(const Frame& frame, int inliers, bool mapping_idle
     if (frame.map_points[i] && !frame.outlier[i]) ++close_tracked;
     else ++close_untracked;
   }
-  const bool need_close = close_tracked < config_.tracking.close_tracked_min &&
-                          close_untracked > config_.tracking.close_untracked_min;
-  const double ratio = keyframes < 2 ? 0.4 : config_.tracking.keyframe_ref_ratio;
-  const std::uint64_t max_gap = config_.tracking.max_frames_between_keyframes > 0
-                                    ? static_cast<std::uint64_t>(config_.tracking.max_frames_between_keyframes)
-                                    : static_cast<std::uint64_t>(config_.camera.fps);
+  const bool need_close = close_tracked < config_.close_tracked_min &&
+                          close_untracked > config_.close_untracked_min;
+  const double ratio = keyframes < 2 ? 0.4 : config_.keyframe_ref_ratio;
+  const std::uint64_t max_gap = config_.max_frames_between_keyframes > 0
+                                    ? static_cast<std::uint64_t>(config_.max_frames_between_keyframes)
+                                    : static_cast<std::uint64_t>(camera_.fps);
   const std::uint64_t since = frame.id - last_keyframe_frame_id_;
   const bool c1a = since >= max_gap;
   const bool c1b = mapping_idle;
@@ -64,7 +64,7 @@ int Tracker::AddDepthPoints(Frame& frame, const std::shared_ptr<KeyFrame>& kf, b
     // every keyframe at its new place (the unknown box of dyn_dev did). Only with
     // dynamic rejection on (labels present): mode none stays ORB-SLAM2's rule.
     const bool suspect = frame.map_points[i] && frame.outlier[i] && !f.dynamic.empty();
-    if (f.depth[i] > 0 && !frame.rejected[i] && !(suspect && config_.tracking.skip_outlier_depth_points)) {
+    if (f.depth[i] > 0 && !frame.rejected[i] && !(suspect && config_.skip_outlier_depth_points)) {
       by_depth.emplace_back(f.depth[i], i);
     }
   }
@@ -73,7 +73,7 @@ int Tracker::AddDepthPoints(Frame& frame, const std::shared_ptr<KeyFrame>& kf, b
   int created = 0, visited = 0;
   for (const auto& [d, i] : by_depth) {
     // All close points, and at least keyframe_min_new_points in total (ORB-SLAM2).
-    if (!all && d > th_depth_ && visited > config_.tracking.keyframe_min_new_points) break;
+    if (!all && d > th_depth_ && visited > config_.keyframe_min_new_points) break;
     ++visited;
     const auto& existing = kf->map_point(i);
     if (existing && existing->num_observations() > 0) continue;

@@ -2,7 +2,7 @@
 
 #include <map>
 
-#include "sgslam/features/matcher.h"
+#include "sgslam/matching/matcher.h"
 
 namespace sgslam {
 

@@ -7,8 +7,8 @@
 
 #include <spdlog/spdlog.h>
 
-#include "sgslam/dynamic/motion.h"
-#include "sgslam/features/matcher.h"
+#include "sgslam/geometry/pnp.h"
+#include "sgslam/matching/matcher.h"
 #include "sgslam/optim/pose_optimizer.h"
 #include "sgslam/optim/rolling_shutter_pose.h"
 
@@ -41,15 +41,14 @@ const char* ToString(TrackState state) {
   return "?";
 }
 
-Tracker::Tracker(const Config& config, Map& map)
+Tracker::Tracker(const TrackingConfig& config, const CameraConfig& camera, Map& map)
     : config_(config),
-      trust_{config.tracking.trust_delay, config.tracking.trust_hits, config.tracking.trust_min_points},
-      map_(map) {
-  // ORB-SLAM2: points closer than ThDepth baselines are "close" (reliable depth).
-  th_depth_ = config.camera.baseline_fx * config.camera.close_depth / config.camera.fx;
-}
+      camera_(camera),
+      trust_{config.trust_delay, config.trust_hits, config.trust_min_points},
+      map_(map),
+      th_depth_(camera.close_depth_m()) {}
 
-TrackResult Tracker::Track(Frame& frame, bool mapping_idle, std::size_t mapping_queue) {
+TrackResult Tracker::Track(Frame& frame, bool mapping_idle, bool mapping_full) {
   TrackResult result;
   if (state_ == TrackState::kNotInitialized) {
     if (Initialize(frame, result)) {
@@ -107,7 +106,7 @@ TrackResult Tracker::Track(Frame& frame, bool mapping_idle, std::size_t mapping_
   bool need_keyframe = false;
   {
     std::shared_lock lock(map_.mutex());
-    need_keyframe = NeedNewKeyFrame(frame, result.inliers, mapping_idle, mapping_queue);
+    need_keyframe = NeedNewKeyFrame(frame, result.inliers, mapping_idle, mapping_full);
   }
   if (need_keyframe) {
     result.new_keyframe = CreateKeyFrame(frame);
@@ -139,11 +138,11 @@ Tracker::Before Tracker::BeforeOf(const Frame& frame) {
 }
 
 bool Tracker::KeyFramesWait() const {
-  return config_.tracking.keyframe_velocity_central && config_.camera.readout > 0;
+  return config_.keyframe_velocity_central && camera_.readout > 0;
 }
 
 bool Tracker::UsesCentralDifference() const {
-  return KeyFramesWait() || (config_.tracking.frame_velocity_central && config_.camera.readout > 0);
+  return KeyFramesWait() || (config_.frame_velocity_central && camera_.readout > 0);
 }
 
 bool Tracker::CorrectWaitingKeyFrame(const std::shared_ptr<KeyFrame>& kf, const Before& before, const Frame& next) {
@@ -166,7 +165,7 @@ bool Tracker::CorrectWaitingKeyFrame(const std::shared_ptr<KeyFrame>& kf, const 
 }
 
 std::optional<SE3> Tracker::RefinePrevious(const Frame& next) {
-  if (!config_.tracking.frame_velocity_central || config_.camera.readout <= 0) return std::nullopt;
+  if (!config_.frame_velocity_central || camera_.readout <= 0) return std::nullopt;
   // before_last_ is adjacent to last_frame_ by construction, except for the map's
   // first frame (its own pose, no central difference).
   if (!before_last_ || before_last_->id + 1 != last_frame_.id || last_frame_.id + 1 != next.id) return std::nullopt;
@@ -185,7 +184,7 @@ std::optional<SE3> Tracker::RefinePrevious(const Frame& next) {
   // Fitted again, the frame must keep nearly all the matches it was tracked with
   // (they were all inliers): a velocity that fits it worse is not a better one.
   const int inliers = OptimizePose(copy);
-  if (inliers < config_.tracking.min_pose_inliers || inliers < 0.9 * matched) return std::nullopt;
+  if (inliers < config_.min_pose_inliers || inliers < 0.9 * matched) return std::nullopt;
   return copy.T_c_w;
 }
 
@@ -195,7 +194,7 @@ bool Tracker::Initialize(Frame& frame, TrackResult& result) {
   // At most half the ORB budget: with orb.features 500 a frame has ~450 keypoints
   // with depth and would never reach 500 (ORB-SLAM2 asks for 500 keypoints, with
   // depth or not).
-  const int needed = std::min(config_.tracking.min_init_points, std::max(1, config_.orb.features / 2));
+  const int needed = config_.min_init_points;
   if (with_depth < needed) {
     best_init_depth_points_ = std::max<int>(best_init_depth_points_, static_cast<int>(with_depth));
     if (++init_failures_ == kInitWarnFrames) {
@@ -246,17 +245,17 @@ bool Tracker::Initialize(Frame& frame, TrackResult& result) {
 bool Tracker::TrackWithMotionModel(Frame& frame, TrackResult& result) {
   frame.T_c_w = velocity_ * last_frame_.T_c_w;
   std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
-  const double r = config_.tracking.motion_search_radius;
-  int n = matcher::SearchByProjection(frame, last_frame_, r, config_.tracking.rejected_match_distance);
-  if (n < config_.tracking.min_motion_matches) {  // a wider window before giving up
+  const double r = config_.motion_search_radius;
+  int n = matcher::SearchByProjection(frame, last_frame_, r, config_.rejected_match_distance);
+  if (n < config_.min_motion_matches) {  // a wider window before giving up
     std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
-    n = matcher::SearchByProjection(frame, last_frame_, 2 * r, config_.tracking.rejected_match_distance);
+    n = matcher::SearchByProjection(frame, last_frame_, 2 * r, config_.rejected_match_distance);
   }
   result.matches = n;
-  if (n < config_.tracking.min_motion_matches) return false;
+  if (n < config_.min_motion_matches) return false;
   const int inliers = OptimizePose(frame);
   DiscardOutliers(frame);
-  return inliers >= config_.tracking.min_pose_inliers;
+  return inliers >= config_.min_pose_inliers;
 }
 
 void Tracker::DiscardOutliers(Frame& frame) {
@@ -271,13 +270,13 @@ void Tracker::DiscardOutliers(Frame& frame) {
 bool Tracker::TrackReferenceKeyFrame(Frame& frame, const std::shared_ptr<KeyFrame>& keyframe, TrackResult& result) {
   if (!keyframe || keyframe->bad()) return false;
   std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
-  const int n = matcher::SearchByDescriptor(*keyframe, frame, config_.tracking.descriptor_ratio);
+  const int n = matcher::SearchByDescriptor(*keyframe, frame, config_.descriptor_ratio);
   result.matches = n;
   if (n < 15) return false;
   frame.T_c_w = last_frame_.T_c_w;
   const int inliers = OptimizePose(frame);
   DiscardOutliers(frame);
-  if (inliers < config_.tracking.min_pose_inliers) return false;
+  if (inliers < config_.min_pose_inliers) return false;
   reference_kf_ = keyframe;
   return true;
 }
@@ -301,7 +300,7 @@ bool Tracker::Recover(Frame& frame, TrackResult& result) {
     if (!kf->bad()) near.emplace_back((kf->center() - last_center).norm(), kf);
   }
   std::stable_sort(near.begin(), near.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  const auto cap = static_cast<std::size_t>(config_.tracking.recover_candidates);
+  const auto cap = static_cast<std::size_t>(config_.recover_candidates);
   if (candidates.size() > cap) candidates.resize(cap);
   for (const auto& [d, kf] : near) {
     if (candidates.size() >= cap) break;
@@ -309,10 +308,10 @@ bool Tracker::Recover(Frame& frame, TrackResult& result) {
   }
   const Features& f = *frame.features;
   const Camera& cam = *f.camera;
-  const dynamic::Pinhole K{cam.fx(), cam.fy(), cam.cx(), cam.cy()};
+  const geometry::Pinhole K{cam.fx(), cam.fy(), cam.cx(), cam.cy()};
   for (const auto& kf : candidates) {
     std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
-    const int n = matcher::SearchByDescriptor(*kf, frame, config_.tracking.descriptor_ratio);
+    const int n = matcher::SearchByDescriptor(*kf, frame, config_.descriptor_ratio);
     result.matches = n;
     if (n < 15) continue;
     std::vector<cv::Point3f> object;
@@ -324,12 +323,12 @@ bool Tracker::Recover(Frame& frame, TrackResult& result) {
       image.push_back(f.keys_un[i].pt);
     }
     const std::optional<SE3> T_c_w =
-        dynamic::SolvePnPMotion(object, image, K, 300, 4.0, config_.tracking.min_pose_inliers);
+        geometry::SolvePnP(object, image, K, {300, 4.0, config_.min_pose_inliers});
     if (!T_c_w) continue;
     frame.T_c_w = *T_c_w;
     const int inliers = OptimizePose(frame);
     DiscardOutliers(frame);
-    if (inliers < config_.tracking.min_pose_inliers) continue;
+    if (inliers < config_.min_pose_inliers) continue;
     reference_kf_ = kf;
     return true;
   }
@@ -338,7 +337,7 @@ bool Tracker::Recover(Frame& frame, TrackResult& result) {
 
 bool Tracker::TrackLocalMap(Frame& frame, TrackResult& result) {
   if (auto ref = local_map_.Update(frame)) reference_kf_ = ref;
-  local_map_.Search(frame, config_.tracking.local_search_radius, config_.tracking.rejected_match_distance);
+  local_map_.Search(frame, config_.local_search_radius, config_.rejected_match_distance);
   result.matches = static_cast<int>(std::count_if(frame.map_points.begin(), frame.map_points.end(),
                                                   [](const auto& p) { return p != nullptr; }));
   OptimizePose(frame);
@@ -353,14 +352,14 @@ bool Tracker::TrackLocalMap(Frame& frame, TrackResult& result) {
     if (p->num_observations() > 0) ++inliers;
   }
   result.inliers = inliers;
-  return inliers >= config_.tracking.min_local_inliers;
+  return inliers >= config_.min_local_inliers;
 }
 
 void Tracker::RefineRollingShutter(Frame& frame) {
   const std::shared_ptr<const Features> held = frame.features;  // f stays valid when replaced below
   const Features& f = *held;
   const double readout = f.camera->config().readout;
-  if (readout <= 0 || !config_.tracking.rolling_shutter_refine) return;
+  if (readout <= 0 || !config_.rolling_shutter_refine) return;
   std::vector<optim::PoseObservation> obs;
   std::vector<double> row_time;
   for (std::size_t i = 0; i < frame.map_points.size(); ++i) {
@@ -369,7 +368,7 @@ void Tracker::RefineRollingShutter(Frame& frame) {
     row_time.push_back(RowTimeOffset(f.keys[i].pt.y, f.camera->height(), readout));
   }
   optim::RollingShutterPoseOptions options;
-  options.prior_sigma = config_.tracking.rolling_shutter_prior;
+  options.prior_sigma = config_.rolling_shutter_prior;
   const auto r = optim::OptimizePoseAndAngularVelocity(frame.T_c_w, obs, row_time, IntrinsicsOf(*f.camera), options);
   if (!r.ok) return;
   frame.features = WithRollingShutterCorrection(f, f.angular_velocity + r.delta);

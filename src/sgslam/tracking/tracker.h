@@ -13,10 +13,11 @@
 #include <vector>
 
 #include "sgslam/camera/rolling_shutter.h"
-#include "sgslam/config/config.h"
+#include "sgslam/camera/camera_config.h"
 #include "sgslam/map/frame.h"
 #include "sgslam/map/map.h"
 #include "sgslam/tracking/local_map.h"
+#include "sgslam/tracking/tracking_config.h"
 #include "sgslam/tracking/trusted_pose.h"
 
 namespace sgslam {
@@ -42,11 +43,14 @@ struct TrackResult {
 
 class Tracker {
  public:
-  Tracker(const Config& config, Map& map);
+  // config.min_init_points is taken as it is (the system caps it at half the ORB
+  // budget); camera: the frame rate, the rolling-shutter readout, the close range.
+  Tracker(const TrackingConfig& config, const CameraConfig& camera, Map& map);
 
-  // mapping_idle / mapping_queue: whether local mapping is free and how many
-  // keyframes wait for it (the keyframe decision takes both into account).
-  TrackResult Track(Frame& frame, bool mapping_idle, std::size_t mapping_queue);
+  // mapping_idle / mapping_full: whether local mapping is free, and whether its
+  // queue is full (no keyframe is made then); the keyframe decision takes both
+  // into account.
+  TrackResult Track(Frame& frame, bool mapping_idle, bool mapping_full);
 
   // With a rolling shutter and tracking.keyframe_velocity_central, a new keyframe
   // waits for the next frame before it goes to local mapping: Track then corrects
@@ -90,12 +94,13 @@ class Tracker {
   // number of inliers that are map points.
   int OptimizePose(Frame& frame);
   static void DiscardOutliers(Frame& frame);
-  bool NeedNewKeyFrame(const Frame& frame, int inliers, bool mapping_idle, std::size_t mapping_queue) const;
+  bool NeedNewKeyFrame(const Frame& frame, int inliers, bool mapping_idle, bool mapping_full) const;
   std::shared_ptr<KeyFrame> CreateKeyFrame(Frame& frame);
   // Creates map points from the depth of keypoints without one (close first).
   int AddDepthPoints(Frame& frame, const std::shared_ptr<KeyFrame>& kf, bool all);
 
-  const Config config_;
+  const TrackingConfig config_;
+  const CameraConfig camera_;
   const TrustOptions trust_;
   Map& map_;
   LocalMap local_map_;
@@ -107,7 +112,7 @@ class Tracker {
   std::shared_ptr<KeyFrame> reference_kf_;
   SE3 last_T_c_r_;  // last frame's pose relative to its reference keyframe
   std::uint64_t last_keyframe_frame_id_ = 0;
-  double th_depth_ = 0;  // m, the close/far limit of depth points
+  const double th_depth_;  // m, the close/far limit of depth points (ORB-SLAM2's ThDepth)
   // A tracked frame (id, time, pose), for the central difference. Kept relative to
   // its reference keyframe, as last_frame_ is: local BA may move the map before the
   // next frame, and a central difference across two versions of the map would

@@ -1,4 +1,4 @@
-#include "sgslam/io/detections_file.h"
+#include "sgslam/detection/detections_file.h"
 
 #include <cmath>
 #include <cstdio>

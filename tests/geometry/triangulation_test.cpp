@@ -1,10 +1,12 @@
-#include "sgslam/mapping/triangulation.h"
+#include "sgslam/camera/camera.h"
+#include "sgslam/geometry/epipolar.h"
+#include "sgslam/geometry/triangulation.h"
 
 #include <gtest/gtest.h>
 
 #include <random>
 
-namespace sgslam {
+namespace sgslam::geometry {
 namespace {
 
 TEST(Triangulation, RecoversPointsFromTwoViews) {
@@ -23,7 +25,7 @@ TEST(Triangulation, RecoversPointsFromTwoViews) {
     EXPECT_LT((*t - p_w).norm(), 1e-8);
     // The fundamental matrix maps the pixel pair onto each other's epipolar lines.
     const Eigen::Vector2d x1 = cam.Project(p_c1), x2 = cam.Project(p_c2);
-    const Eigen::Matrix3d F = FundamentalMatrix(T_1w, T_2w, cam);
+    const Eigen::Matrix3d F = FundamentalMatrix(T_2w * T_1w.Inverse(), {cam.fx(), cam.fy(), cam.cx(), cam.cy()});
     const Eigen::Vector3d line = F * x1.homogeneous();
     EXPECT_LT(std::abs(x2.homogeneous().dot(line)) / line.head<2>().norm(), 1e-6);
   }
@@ -38,4 +40,4 @@ TEST(Triangulation, ParallelRaysGiveNoPoint) {
 }
 
 }  // namespace
-}  // namespace sgslam
+}  // namespace sgslam::geometry

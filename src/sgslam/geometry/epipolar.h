@@ -1,6 +1,7 @@
-// Algorithm 1 line 3 and eqs. (2)-(4): the fundamental matrix between the previous
-// and the current frame, and the distance of a current point to the epipolar line
-// of its previous match.
+// Two-view epipolar geometry: the fundamental matrix between two images, estimated
+// from pixel pairs (the rejection's Algorithm 1 line 3) or from known poses (local
+// mapping's triangulation search), and the distance of a point to the epipolar
+// line of its match (eqs. (2)-(4) of the paper).
 //
 // Direction: F maps previous points to lines in the current image,
 // x_cur^T F x_prev = 0 (eq. 3 with P1 = previous, P2 = current).
@@ -21,29 +22,38 @@
 #include <vector>
 
 #include "sgslam/common/se3.h"
-#include "sgslam/dynamic/dynamic_config.h"
+#include "sgslam/geometry/pinhole.h"
 
-namespace sgslam::dynamic {
+namespace sgslam::geometry {
+
+struct FundamentalOptions {
+  double threshold = 1.0;    // px, OpenCV's RANSAC epipolar distance
+  double confidence = 0.99;  // probability
+  int iterations = 1000;     // at most
+  int min_preferred = 20;    // preferred pairs needed to fit on them alone
+};
 
 struct FundamentalEstimate {
   Eigen::Matrix3d F_cur_prev = Eigen::Matrix3d::Zero();  // x_cur^T F x_prev = 0, ||F|| = 1
   int pairs = 0;                                         // pairs the estimate was fitted on
   int inliers = 0;                                       // RANSAC inliers among them
-  bool from_static = false;                              // fitted on the pairs outside dynamic boxes only
+  bool from_static = false;                              // fitted on the preferred pairs only
 };
 
-// prev, cur: matched pairs (px). preferred: pairs believed static (current point
-// outside every dynamic box); F is fitted on them alone when at least
-// config.min_static_pairs exist, else on all. nullopt when fewer than 8 pairs or
+// prev, cur: matched pairs (px). preferred: pairs believed static (for the
+// rejection: outside every dynamic box); F is fitted on them alone when at least
+// options.min_preferred exist, else on all. nullopt when fewer than 8 pairs or
 // when OpenCV finds no model.
 std::optional<FundamentalEstimate> EstimateFundamental(const std::vector<Eigen::Vector2d>& prev,
                                                        const std::vector<Eigen::Vector2d>& cur,
-                                                       const std::vector<bool>& preferred, const DynamicConfig& config);
+                                                       const std::vector<bool>& preferred,
+                                                       const FundamentalOptions& options);
 
 // Eq. (4): d = |p_cur^T F p_prev| / sqrt(X^2 + Y^2), (X, Y, Z) = F p_prev (eq. 2).
 double EpipolarDistance(const Eigen::Matrix3d& F_cur_prev, const Eigen::Vector2d& prev, const Eigen::Vector2d& cur);
 
-// The F of a known relative pose: F = K^-T [t]x R K^-1 with (R, t) = T_cur_prev.
-Eigen::Matrix3d FundamentalFromPose(const SE3& T_cur_prev, const Eigen::Matrix3d& K);
+// F_21 of known poses, x2^T F_21 x1 = 0 for pixels x1 in camera 1 and x2 in
+// camera 2 with the same intrinsics: F_21 = K^-T [t_21]x R_21 K^-1 (not normalised).
+Eigen::Matrix3d FundamentalMatrix(const SE3& T_21, const Pinhole& K);
 
-}  // namespace sgslam::dynamic
+}  // namespace sgslam::geometry

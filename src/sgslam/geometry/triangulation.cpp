@@ -1,18 +1,10 @@
-#include "sgslam/mapping/triangulation.h"
+#include "sgslam/geometry/triangulation.h"
 
 #include <cmath>
 
 #include <Eigen/SVD>
 
-namespace sgslam {
-
-Eigen::Matrix3d FundamentalMatrix(const SE3& T_1w, const SE3& T_2w, const Camera& c) {
-  // F_21 = K^-T [t_21]x R_21 K^-1 with T_21 = T_2w T_w1.
-  const SE3 T_21 = T_2w * T_1w.Inverse();
-  Eigen::Matrix3d K_inv;
-  K_inv << 1 / c.fx(), 0, -c.cx() / c.fx(), 0, 1 / c.fy(), -c.cy() / c.fy(), 0, 0, 1;
-  return K_inv.transpose() * Hat(T_21.translation()) * T_21.rotation() * K_inv;
-}
+namespace sgslam::geometry {
 
 std::optional<Eigen::Vector3d> Triangulate(const Eigen::Vector3d& x1, const Eigen::Vector3d& x2, const SE3& T_1w,
                                            const SE3& T_2w) {
@@ -29,4 +21,4 @@ std::optional<Eigen::Vector3d> Triangulate(const Eigen::Vector3d& x1, const Eige
   return Eigen::Vector3d(h.head<3>() / h(3));
 }
 
-}  // namespace sgslam
+}  // namespace sgslam::geometry

@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "sgslam/features/hamming.h"
-#include "sgslam/features/matcher.h"
+#include "sgslam/matching/matcher.h"
 
 namespace sgslam::matcher {
 

@@ -2,7 +2,7 @@
 // with tracking.rejected_match_distance 0 a rejected keypoint is never matched;
 // with 50, only to a trusted map point that no kept keypoint matched, and only
 // within that descriptor distance.
-#include "sgslam/features/matcher.h"
+#include "sgslam/matching/matcher.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "sgslam/features/matcher.h"
+#include "sgslam/matching/matcher.h"
 
 #include <algorithm>
 #include <array>

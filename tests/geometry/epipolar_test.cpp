@@ -4,10 +4,9 @@
 
 #include <random>
 
-#include "dynamic/dynamic_test_scene.h"
-#include "sgslam/dynamic/epipolar.h"
+#include "sgslam/geometry/epipolar.h"
 
-namespace sgslam::dynamic {
+namespace sgslam::geometry {
 namespace {
 
 struct TwoViews {
@@ -36,6 +35,8 @@ TwoViews Project(int n, unsigned seed) {
   return v;
 }
 
+Pinhole PinholeOf(const Eigen::Matrix3d& K) { return {K(0, 0), K(1, 1), K(0, 2), K(1, 2)}; }
+
 double MaxDistance(const Eigen::Matrix3d& F, const TwoViews& v) {
   double worst = 0;
   for (size_t i = 0; i < v.prev.size(); ++i) worst = std::max(worst, EpipolarDistance(F, v.prev[i], v.cur[i]));
@@ -44,15 +45,15 @@ double MaxDistance(const Eigen::Matrix3d& F, const TwoViews& v) {
 
 TEST(Epipolar, AnalyticFundamentalHoldsForProjectedPoints) {
   const TwoViews v = Project(200, 1);
-  EXPECT_LT(MaxDistance(FundamentalFromPose(v.T_cur_prev, v.K), v), 1e-9);
+  EXPECT_LT(MaxDistance(FundamentalMatrix(v.T_cur_prev, PinholeOf(v.K)), v), 1e-9);
   // Direction: the transpose maps current points to previous lines, not the reverse.
-  EXPECT_GT(MaxDistance(FundamentalFromPose(v.T_cur_prev, v.K).transpose(), v), 1.0);
+  EXPECT_GT(MaxDistance(FundamentalMatrix(v.T_cur_prev, PinholeOf(v.K)).transpose(), v), 1.0);
 }
 
 TEST(Epipolar, EstimateMatchesTheAnalyticFundamental) {
   const TwoViews v = Project(300, 2);
   const std::vector<bool> all(v.prev.size(), true);
-  const DynamicConfig c;
+  const FundamentalOptions c;
   // OpenCV's 7-point model works on float-rounded points.
   const auto raw = EstimateFundamental(v.prev, v.cur, all, c);
   ASSERT_TRUE(raw);
@@ -69,13 +70,13 @@ TEST(Epipolar, RansacIgnoresMovingPointsAndIsDeterministic) {
     if (i % 4 == 0) v.cur[i] += Eigen::Vector2d(6, -4);  // a quarter moved by (6, -4) px
   }
   const std::vector<bool> all(v.prev.size(), true);
-  const DynamicConfig c;
+  const FundamentalOptions c;
   const auto a = EstimateFundamental(v.prev, v.cur, all, c), b = EstimateFundamental(v.prev, v.cur, all, c);
   ASSERT_TRUE(a && b);
   EXPECT_EQ(a->F_cur_prev, b->F_cur_prev);  // bit-identical: OpenCV seeds its RNG per call
   // A moved point is visible only through the part of its motion across its true
   // epipolar line; those clearly across it (> 2 px) must be caught.
-  const Eigen::Matrix3d F_true = FundamentalFromPose(v.T_cur_prev, v.K);
+  const Eigen::Matrix3d F_true = FundamentalMatrix(v.T_cur_prev, PinholeOf(v.K));
   int across = 0, caught = 0, static_ok = 0;
   for (size_t i = 0; i < v.prev.size(); ++i) {
     const double d = EpipolarDistance(a->F_cur_prev, v.prev[i], v.cur[i]);
@@ -94,49 +95,20 @@ TEST(Epipolar, RansacIgnoresMovingPointsAndIsDeterministic) {
 TEST(Epipolar, FitsOnPreferredPairsWhenEnoughRemain) {
   const TwoViews v = Project(100, 4);
   std::vector<bool> preferred(v.prev.size(), false);
-  DynamicConfig c;
-  for (int i = 0; i < c.min_static_pairs - 1; ++i) preferred[i] = true;
+  FundamentalOptions c;
+  for (int i = 0; i < c.min_preferred - 1; ++i) preferred[i] = true;
   auto est = EstimateFundamental(v.prev, v.cur, preferred, c);
   ASSERT_TRUE(est);
   EXPECT_FALSE(est->from_static);
   EXPECT_EQ(est->pairs, 100);
-  preferred[c.min_static_pairs - 1] = true;
+  preferred[c.min_preferred - 1] = true;
   est = EstimateFundamental(v.prev, v.cur, preferred, c);
   ASSERT_TRUE(est);
   EXPECT_TRUE(est->from_static);
-  EXPECT_EQ(est->pairs, c.min_static_pairs);
+  EXPECT_EQ(est->pairs, c.min_preferred);
   EXPECT_FALSE(EstimateFundamental({v.prev.begin(), v.prev.begin() + 7}, {v.cur.begin(), v.cur.begin() + 7},
                                    std::vector<bool>(7, true), c));
 }
 
-// Rendered static room: pairs whose LK match agrees with the ground truth (within
-// 0.5 px of the reprojection through the true depth and pose) lie within 1 px of
-// their epipolar lines.
-TEST(Epipolar, CorrectPairsOfAStaticSceneAreWithinOnePixel) {
-  const test::FramePair p = test::MakePair("static", 40);
-  const std::vector<cv::KeyPoint> keys = test::DetectKeypoints(p.cur_gray);
-  DynamicConfig c;
-  c.mode = "geometric";
-  const RejectionResult r = RejectDynamicFeatures(p.prev_gray, p.cur_gray, keys, {}, {}, c);
-  ASSERT_TRUE(r.fundamental);
-  const SE3 T_prev_cur = p.T_cur_prev.Inverse();
-  std::vector<double> d;
-  for (size_t i = 0; i < keys.size(); ++i) {
-    const KeypointVerdict& v = r.keypoints[i];
-    const float z = p.cur_depth.at<float>(cvRound(keys[i].pt.y), cvRound(keys[i].pt.x));
-    if (v.pair != PairStatus::kOk || z <= 0) continue;
-    const Eigen::Vector3d X((keys[i].pt.x - p.K.cx) / p.K.fx * z, (keys[i].pt.y - p.K.cy) / p.K.fy * z, z);
-    const Eigen::Vector3d Xp = T_prev_cur * X;
-    const Eigen::Vector2d expected(p.K.fx * Xp.x() / Xp.z() + p.K.cx, p.K.fy * Xp.y() / Xp.z() + p.K.cy);
-    if ((expected - Eigen::Vector2d(v.prev.x, v.prev.y)).norm() < 0.5) d.push_back(v.distance);
-  }
-  ASSERT_GT(d.size(), 500u);
-  std::sort(d.begin(), d.end());
-  std::printf("static pairs: %zu correct, epipolar distance median %.3f, p99 %.3f, max %.3f px\n", d.size(),
-              d[d.size() / 2], d[d.size() * 99 / 100], d.back());
-  EXPECT_LT(d.back(), 1.0);
-  EXPECT_LT(d[d.size() / 2], 0.25);
-}
-
 }  // namespace
-}  // namespace sgslam::dynamic
+}  // namespace sgslam::geometry
