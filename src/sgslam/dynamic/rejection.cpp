@@ -128,6 +128,127 @@ PairSet TrackPairs(const FlowFrame& prev, const FlowFrame& cur, const std::vecto
   return p;
 }
 
+namespace {
+
+// Per keypoint, w of the boxes holding it (regions.h), and the w the fits use:
+// boxes carried over a missed detection (box_carry.h) weigh their keypoints but do
+// not take pairs out of the F and PnP fits, since where they have drifted off their
+// object they would leave the fits to what moves.
+struct Weights {
+  std::vector<double> w, w_fit;
+};
+Weights WeighKeypoints(Mode mode, const std::vector<cv::KeyPoint>& keys, const std::vector<Detection>& detections,
+                       const WeightFn& weight, const DynamicConfig& config, const DepthCheckInput* depth) {
+  const auto weights_of = [&](const std::vector<Detection>& boxes) {
+    return mode == Mode::kSg && depth != nullptr
+               ? KeypointWeightsWithDepth(keys, boxes, weight, depth->cur_depth, depth->depth_factor,
+                                          config.box_depth_band)
+               : KeypointWeights(keys, boxes, weight);
+  };
+  Weights out;
+  out.w = weights_of(detections);
+  if (std::any_of(detections.begin(), detections.end(), [](const Detection& d) { return d.carried > 0; })) {
+    std::vector<Detection> fresh;
+    for (const Detection& d : detections) {
+      if (d.carried == 0) fresh.push_back(d);
+    }
+    out.w_fit = weights_of(fresh);
+  } else {
+    out.w_fit = out.w;
+  }
+  return out;
+}
+
+// None and semantic modes: the boxes alone; with too few kept, all restored (no d
+// to rank by), as the release does.
+void JudgeByBoxes(Mode mode, int min_kept, RejectionResult& r) {
+  for (KeypointVerdict& v : r.keypoints) {
+    v.kept = mode == Mode::kNone || v.weight <= 1.0;
+    v.why = v.kept ? Why::kStatic : Why::kSemantics;
+  }
+  const auto kept = std::count_if(r.keypoints.begin(), r.keypoints.end(), [](const auto& v) { return v.kept; });
+  for (KeypointVerdict& v : r.keypoints) {
+    if (kept < min_kept && !v.kept) v.kept = true, v.why = Why::kFallback, ++r.restored;
+  }
+}
+
+// Line 3 and eq. (4): F on the preferred pairs (sg: outside dynamic boxes, the
+// release's rule; all modes: outside the prior's cells), each pair's distance.
+// use_motion: in, the preferred pairs; out, the pairs the motion fits may use.
+void FitFundamental(const PairSet& pairs, const std::vector<bool>& valid, const DynamicConfig& config,
+                    std::vector<bool>& use_motion, RejectionResult& r) {
+  std::vector<Eigen::Vector2d> p1, p2;
+  std::vector<bool> preferred;
+  for (size_t i = 0; i < valid.size(); ++i) {
+    if (!valid[i]) continue;
+    p1.emplace_back(pairs.prev_un[i].x, pairs.prev_un[i].y);
+    p2.emplace_back(pairs.cur_un[i].x, pairs.cur_un[i].y);
+    preferred.push_back(use_motion[i]);
+  }
+  r.fundamental = geometry::EstimateFundamental(
+      p1, p2, preferred,
+      {config.ransac_threshold, config.ransac_confidence, config.ransac_iterations, config.min_static_pairs});
+  if (!r.fundamental) return;
+  const Eigen::Matrix3d& F = r.fundamental->F_cur_prev;
+  for (size_t i = 0, k = 0; i < valid.size(); ++i) {
+    if (valid[i]) r.keypoints[i].distance = geometry::EpipolarDistance(F, p1[k], p2[k]), ++k;
+  }
+  if (!r.fundamental->from_static) use_motion = valid;  // too few preferred pairs: all
+  if (!config.judge_appearance_pairs) return;
+  for (size_t i = 0; i < valid.size(); ++i) {
+    if (pairs.flow.status[i] != PairStatus::kAppearance) continue;
+    r.keypoints[i].loose_distance =
+        geometry::EpipolarDistance(F, Eigen::Vector2d(pairs.prev_un[i].x, pairs.prev_un[i].y),
+                                   Eigen::Vector2d(pairs.cur_un[i].x, pairs.cur_un[i].y));
+  }
+}
+
+// The RGB-D check (depth_check.h) with the PnP motion of the preferred pairs:
+// moved[i] where it flags pair i, confirmed[i] where (sg) it passes well within its
+// tolerances.
+void CheckPairDepths(Mode mode, const PairSet& pairs, const std::vector<bool>& valid,
+                     const std::vector<bool>& use_motion, const DepthCheckInput& depth, const DynamicConfig& config,
+                     std::vector<bool>& moved, std::vector<bool>& confirmed, RejectionResult& r) {
+  r.motion = EstimateMotion(pairs.flow.prev, pairs.prev_un, pairs.cur_un, use_motion, depth.prev_depth,
+                            depth.depth_factor, depth.K, config);
+  if (!r.motion) return;  // no trustworthy motion: no check this frame
+  DepthCheckInput in = depth;
+  in.T_cur_prev = r.motion->T_cur_prev;
+  // The median level needs the movers mostly gone from the pairs, which only the
+  // boxes of sg give: in geometric mode movers can fill half the frame and lift it.
+  // (A copy of the config only then: it holds strings, and this runs every frame.)
+  std::optional<DynamicConfig> fixed;
+  if (mode != Mode::kSg && config.reprojection_median_factor > 0) {
+    fixed = config;
+    fixed->reprojection_median_factor = 0;
+  }
+  const std::vector<DepthResidual> residuals =
+      CheckDepth(pairs.flow.prev, pairs.cur, pairs.prev_un, pairs.cur_un, valid, in, fixed ? *fixed : config);
+  int checked = 0, flagged = 0;
+  for (size_t i = 0; i < valid.size(); ++i) {
+    moved[i] = residuals[i].valid && residuals[i].moved;
+    checked += residuals[i].valid;
+    flagged += moved[i];
+  }
+  // The scene is assumed mostly static (as RANSAC does): a check that flags most
+  // of it has a wrong motion (PnP on a large moving object) and would keep the
+  // mover and drop the background.
+  if (flagged > config.depth_max_share * checked) {
+    std::fill(moved.begin(), moved.end(), false);
+    r.depth_ignored = true;
+  } else if (mode == Mode::kSg && config.confirm_static > 0) {
+    // Direct evidence of a static point outweighs the box's prior (dynamic_config.h).
+    const double share = config.confirm_static;
+    for (size_t i = 0; i < valid.size(); ++i) {
+      const DepthResidual& q = residuals[i];
+      confirmed[i] = q.valid && !q.moved && q.depth_error <= share * q.depth_tolerance &&
+                     q.reprojection_error <= share * q.reprojection_tolerance;
+    }
+  }
+}
+
+}  // namespace
+
 RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>& keys,
                            const std::vector<Detection>& detections, const WeightFn& weight,
                            const DynamicConfig& config, const DepthCheckInput* depth, const DynamicPrior* prior) {
@@ -136,129 +257,36 @@ RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>
   RejectionResult r;
   r.eps_used = config.eps_std;
   r.ms.flow = pairs.ms;
-  const auto weights_of = [&](const std::vector<Detection>& boxes) {
-    return mode == Mode::kSg && depth != nullptr
-               ? KeypointWeightsWithDepth(keys, boxes, weight, depth->cur_depth, depth->depth_factor,
-                                          config.box_depth_band)
-               : KeypointWeights(keys, boxes, weight);
-  };
-  const std::vector<double> w = weights_of(detections);
-  // Boxes carried over a missed detection (box_carry.h) weigh their keypoints but do
-  // not take pairs out of the F and PnP fits: where they have drifted off their
-  // object they would leave the fits to what moves (dyn_dev frames 68-72: an
-  // unknown moving box then carried F and the static pairs were rejected).
-  // (The copy and second pass only in frames that hold a carried box.)
-  std::vector<double> w_fresh;
-  if (std::any_of(detections.begin(), detections.end(), [](const Detection& d) { return d.carried > 0; })) {
-    std::vector<Detection> fresh;
-    for (const Detection& d : detections) {
-      if (d.carried == 0) fresh.push_back(d);
-    }
-    w_fresh = weights_of(fresh);
-  }
-  const std::vector<double>& w_fit = w_fresh.empty() ? w : w_fresh;
+  const Weights w = WeighKeypoints(mode, keys, detections, weight, config, depth);
   r.keypoints.resize(keys.size());
-  for (size_t i = 0; i < keys.size(); ++i) r.keypoints[i].weight = w[i];
+  for (size_t i = 0; i < keys.size(); ++i) r.keypoints[i].weight = w.w[i];
   const int min_kept = static_cast<int>(std::ceil(config.min_kept_ratio * static_cast<double>(keys.size())));
-
   if (mode == Mode::kNone || mode == Mode::kSemantic) {
-    for (KeypointVerdict& v : r.keypoints) {
-      v.kept = mode == Mode::kNone || v.weight <= 1.0;
-      v.why = v.kept ? Why::kStatic : Why::kSemantics;
-    }
-    const auto kept = std::count_if(r.keypoints.begin(), r.keypoints.end(), [](const auto& v) { return v.kept; });
-    for (KeypointVerdict& v : r.keypoints) {  // no d to rank by: restore all, as the release does
-      if (kept < min_kept && !v.kept) v.kept = true, v.why = Why::kFallback, ++r.restored;
-    }
+    JudgeByBoxes(mode, min_kept, r);
     Count(r);
     r.ms.total = total.ElapsedMs() + pairs.ms;
     return r;
   }
   if (pairs.cur.size() != keys.size()) throw std::invalid_argument("JudgePairs: one pair per keypoint");
-  const FlowPairs& flow = pairs.flow;
-  r.valid_pairs = flow.valid;
+  r.valid_pairs = pairs.flow.valid;
 
   Stopwatch stage;
-  std::vector<Eigen::Vector2d> p1, p2;
-  std::vector<bool> preferred;  // fit F on pairs outside dynamic boxes (sg, the release's rule) and prior cells
   std::vector<bool> valid(keys.size()), use_motion(keys.size(), false);
   for (size_t i = 0; i < keys.size(); ++i) {
-    r.keypoints[i].pair = flow.status[i];
-    r.keypoints[i].prev = flow.prev[i];
-    valid[i] = flow.status[i] == PairStatus::kOk;
+    r.keypoints[i].pair = pairs.flow.status[i];
+    r.keypoints[i].prev = pairs.flow.prev[i];
+    valid[i] = pairs.flow.status[i] == PairStatus::kOk;
     if (!valid[i]) continue;
-    use_motion[i] = (mode != Mode::kSg || w_fit[i] <= 1.0) && !(prior != nullptr && prior->Dynamic(flow.prev[i]));
+    use_motion[i] =
+        (mode != Mode::kSg || w.w_fit[i] <= 1.0) && !(prior != nullptr && prior->Dynamic(pairs.flow.prev[i]));
   }
-  const std::vector<cv::Point2f>& prev_un = pairs.prev_un;
-  const std::vector<cv::Point2f>& cur_un = pairs.cur_un;
-  for (size_t i = 0; i < keys.size(); ++i) {
-    if (!valid[i]) continue;
-    p1.emplace_back(prev_un[i].x, prev_un[i].y);
-    p2.emplace_back(cur_un[i].x, cur_un[i].y);
-    preferred.push_back(use_motion[i]);
-  }
-  r.fundamental = geometry::EstimateFundamental(  // line 3
-      p1, p2, preferred,
-      {config.ransac_threshold, config.ransac_confidence, config.ransac_iterations, config.min_static_pairs});
-  if (r.fundamental) {
-    for (size_t i = 0, k = 0; i < keys.size(); ++i) {
-      if (valid[i]) r.keypoints[i].distance = geometry::EpipolarDistance(r.fundamental->F_cur_prev, p1[k], p2[k]), ++k;
-    }
-    if (!r.fundamental->from_static) use_motion = valid;  // too few preferred pairs: all
-    if (config.judge_appearance_pairs) {
-      for (size_t i = 0; i < keys.size(); ++i) {
-        if (flow.status[i] != PairStatus::kAppearance) continue;
-        r.keypoints[i].loose_distance =
-            geometry::EpipolarDistance(r.fundamental->F_cur_prev, Eigen::Vector2d(prev_un[i].x, prev_un[i].y),
-                             Eigen::Vector2d(cur_un[i].x, cur_un[i].y));
-      }
-    }
-  }
+  FitFundamental(pairs, valid, config, use_motion, r);  // line 3
   r.ms.fundamental = stage.ElapsedMs();
 
   stage.Restart();
-  std::vector<bool> moved(keys.size(), false);
-  std::vector<bool> confirmed(keys.size(), false);
+  std::vector<bool> moved(keys.size(), false), confirmed(keys.size(), false);
   if (config.depth_check && depth != nullptr) {
-    // The camera motion of the check: PnP RANSAC on the same preferred pairs as F.
-    r.motion = EstimateMotion(flow.prev, prev_un, cur_un, use_motion, depth->prev_depth, depth->depth_factor,
-                              depth->K, config);
-    if (r.motion) {  // else no trustworthy motion: no check this frame
-      DepthCheckInput in = *depth;
-      in.T_cur_prev = r.motion->T_cur_prev;
-      // The median level needs the movers mostly gone from the pairs, which only the
-      // boxes of sg give: in geometric mode people fill up to half of a dyn_dev frame,
-      // lift the median and pass (3 of 5 panel runs failed at 0.15-0.16 m).
-      // (A copy of the config only then: it holds strings, and this runs every frame.)
-      std::optional<DynamicConfig> fixed;
-      if (mode != Mode::kSg && config.reprojection_median_factor > 0) {
-        fixed = config;
-        fixed->reprojection_median_factor = 0;
-      }
-      const std::vector<DepthResidual> residuals =
-          CheckDepth(flow.prev, pairs.cur, prev_un, cur_un, valid, in, fixed ? *fixed : config);
-      int checked = 0, flagged = 0;
-      for (size_t i = 0; i < keys.size(); ++i) {
-        moved[i] = residuals[i].valid && residuals[i].moved;
-        checked += residuals[i].valid;
-        flagged += moved[i];
-      }
-      // The scene is assumed mostly static (as RANSAC does): a check that flags
-      // most of it has a wrong motion (PnP on a large moving object, a bad
-      // prediction) and would keep the mover and drop the background.
-      if (flagged > config.depth_max_share * checked) {
-        std::fill(moved.begin(), moved.end(), false);
-        r.depth_ignored = true;
-      } else if (mode == Mode::kSg && config.confirm_static > 0) {
-        // Direct evidence of a static point outweighs the box's prior (dynamic_config.h).
-        const double share = config.confirm_static;
-        for (size_t i = 0; i < keys.size(); ++i) {
-          const DepthResidual& q = residuals[i];
-          confirmed[i] = q.valid && !q.moved && q.depth_error <= share * q.depth_tolerance &&
-                         q.reprojection_error <= share * q.reprojection_tolerance;
-        }
-      }
-    }
+    CheckPairDepths(mode, pairs, valid, use_motion, *depth, config, moved, confirmed, r);
   }
   r.ms.depth = stage.ElapsedMs();
 

@@ -78,6 +78,85 @@ void EnsureFolder(const fs::path& path) {
   if (ec) throw InputError("cannot create the folder for plot " + path.string() + ": " + ec.message());
 }
 
+// The plot area: metres on the ground truth's principal plane to pixels, equal aspect.
+struct PlotArea {
+  int w = 0, h = 0;  // px, inside the margins
+  Eigen::Vector2d mid = Eigen::Vector2d::Zero();
+  double scale = 1;  // px per metre
+  double step = 1;   // m, tick spacing
+
+  PlotArea(const AtePlotOptions& options, const std::vector<Eigen::Vector2d>& a, const std::vector<Eigen::Vector2d>& b)
+      : w(options.width - kLeft - kRight), h(options.height - kTop - kBottom) {
+    Eigen::Vector2d lo = a[0], hi = a[0];
+    for (const auto* pts : {&a, &b}) {
+      for (const Eigen::Vector2d& q : *pts) {
+        lo = lo.cwiseMin(q);
+        hi = hi.cwiseMax(q);
+      }
+    }
+    mid = 0.5 * (lo + hi);
+    const Eigen::Vector2d range = (hi - lo).cwiseMax(1e-3) * 1.08;
+    scale = std::min(w / range.x(), h / range.y());
+    step = NiceStep(std::max(w, h) / scale);
+  }
+  cv::Point Px(const Eigen::Vector2d& q) const {
+    return cv::Point(static_cast<int>(std::lround(kLeft + w / 2.0 + (q.x() - mid.x()) * scale)),
+                     static_cast<int>(std::lround(kTop + h / 2.0 - (q.y() - mid.y()) * scale)));
+  }
+};
+
+// Ticks on the frame, in metres from the ground-truth centroid, and the axis names.
+void DrawAxes(cv::Mat& img, const PlotArea& a, const AtePlotOptions& options) {
+  for (double v = std::ceil((a.mid.x() - a.w / 2.0 / a.scale) / a.step) * a.step; a.Px({v, 0}).x <= kLeft + a.w;
+       v += a.step) {
+    const int x = a.Px({v, 0}).x;
+    cv::line(img, {x, kTop + a.h}, {x, kTop + a.h + 5}, kBlack);
+    Text(img, Metres(v, a.step), {x - 15, kTop + a.h + 20}, 0.4);
+  }
+  for (double v = std::ceil((a.mid.y() - a.h / 2.0 / a.scale) / a.step) * a.step; a.Px({0, v}).y >= kTop;
+       v += a.step) {
+    const int y = a.Px({0, v}).y;
+    cv::line(img, {kLeft - 5, y}, {kLeft, y}, kBlack);
+    Text(img, Metres(v, a.step), {kLeft - 55, y + 4}, 0.4);
+  }
+  cv::rectangle(img, cv::Rect(kLeft, kTop, a.w, a.h), kFrameColour);
+  Text(img, "principal axis 1 of ground truth [m]", {kLeft + a.w / 2 - 140, options.height - 12});
+  Text(img, "axis 2 [m]", {4, kTop - 12});
+}
+
+// The scale bar (bottom left) and the legend (top left), inside the frame.
+void DrawScaleAndLegend(cv::Mat& img, const PlotArea& a, const cv::Mat& lut) {
+  const cv::Point bar0(kLeft + 15, kTop + a.h - 15);
+  const cv::Point bar1(bar0.x + static_cast<int>(std::lround(a.step * a.scale)), bar0.y);
+  cv::line(img, bar0, bar1, kBlack, 3);
+  Text(img, Metres(a.step, a.step) + " m", {bar0.x, bar0.y - 8});
+  cv::rectangle(img, {kLeft + 10, kTop + 10, 260, 46}, cv::Scalar(255, 255, 255), cv::FILLED);
+  cv::rectangle(img, {kLeft + 10, kTop + 10, 260, 46}, kFrameColour);
+  cv::line(img, {kLeft + 20, kTop + 25}, {kLeft + 50, kTop + 25}, kGtColour, 2, cv::LINE_AA);
+  Text(img, "ground truth", {kLeft + 58, kTop + 29});
+  cv::line(img, {kLeft + 20, kTop + 45}, {kLeft + 35, kTop + 45}, JetColour(lut, 0.1), 2, cv::LINE_AA);
+  cv::line(img, {kLeft + 35, kTop + 45}, {kLeft + 50, kTop + 45}, JetColour(lut, 0.9), 2, cv::LINE_AA);
+  Text(img, "estimate (aligned), by error", {kLeft + 58, kTop + 49});
+}
+
+// The colour bar of the error, on the right, 0 at the bottom.
+void DrawColourBar(cv::Mat& img, const PlotArea& a, const AtePlotOptions& options, const cv::Mat& lut,
+                   double max_err) {
+  const int cb_x = options.width - kRight + 30;
+  for (int y = 0; y < a.h; ++y) {
+    cv::line(img, {cb_x, kTop + y}, {cb_x + 20, kTop + y}, JetColour(lut, 1.0 - y / double(a.h - 1)));
+  }
+  cv::rectangle(img, {cb_x, kTop, 21, a.h}, kFrameColour);
+  for (int k = 0; k <= 4; ++k) {
+    const int y = kTop + a.h - 1 - k * (a.h - 1) / 4;
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.4f", max_err * k / 4.0);
+    cv::line(img, {cb_x + 21, y}, {cb_x + 26, y}, kBlack);
+    Text(img, buf, {cb_x + 30, y + 4}, 0.4);
+  }
+  Text(img, "ATE [m]", {cb_x - 10, kTop - 10});
+}
+
 }  // namespace
 
 void WriteAtePlot(const fs::path& path, const Trajectory& gt, const Trajectory& est, const AteResult& ate,
@@ -89,84 +168,25 @@ void WriteAtePlot(const fs::path& path, const Trajectory& gt, const Trajectory& 
   std::vector<Eigen::Vector2d> gt_xy, est_xy;
   for (const StampedPose& p : gt) gt_xy.push_back(P * (p.T_w_c.translation() - c));
   for (const auto& ij : ate.pairs) est_xy.push_back(P * (ate.T_gt_est * est[ij.second].T_w_c.translation() - c));
-
-  Eigen::Vector2d lo = gt_xy[0], hi = gt_xy[0];
-  for (const auto* pts : {&gt_xy, &est_xy}) {
-    for (const Eigen::Vector2d& q : *pts) {
-      lo = lo.cwiseMin(q);
-      hi = hi.cwiseMax(q);
-    }
-  }
-  const int w = options.width - kLeft - kRight, h = options.height - kTop - kBottom;
-  const Eigen::Vector2d mid = 0.5 * (lo + hi), range = (hi - lo).cwiseMax(1e-3) * 1.08;
-  const double scale = std::min(w / range.x(), h / range.y());  // px per metre, equal aspect
-  const auto px = [&](const Eigen::Vector2d& q) {
-    return cv::Point(static_cast<int>(std::lround(kLeft + w / 2.0 + (q.x() - mid.x()) * scale)),
-                     static_cast<int>(std::lround(kTop + h / 2.0 - (q.y() - mid.y()) * scale)));
-  };
-
+  const PlotArea area(options, gt_xy, est_xy);
   cv::Mat img(options.height, options.width, CV_8UC3, cv::Scalar(255, 255, 255));
-  const cv::Rect area(kLeft, kTop, w, h);
-  // Ticks on the frame, in metres from the ground-truth centroid.
-  const double step = NiceStep(std::max(w, h) / scale);
-  for (double v = std::ceil((mid.x() - w / 2.0 / scale) / step) * step; px({v, 0}).x <= kLeft + w; v += step) {
-    const int x = px({v, 0}).x;
-    cv::line(img, {x, kTop + h}, {x, kTop + h + 5}, kBlack);
-    Text(img, Metres(v, step), {x - 15, kTop + h + 20}, 0.4);
-  }
-  for (double v = std::ceil((mid.y() - h / 2.0 / scale) / step) * step; px({0, v}).y >= kTop; v += step) {
-    const int y = px({0, v}).y;
-    cv::line(img, {kLeft - 5, y}, {kLeft, y}, kBlack);
-    Text(img, Metres(v, step), {kLeft - 55, y + 4}, 0.4);
-  }
-  cv::rectangle(img, area, kFrameColour);
-  Text(img, "principal axis 1 of ground truth [m]", {kLeft + w / 2 - 140, options.height - 12});
-  Text(img, "axis 2 [m]", {4, kTop - 12});
+  DrawAxes(img, area, options);
 
   // Ground truth, then the estimate on top of it, segment colour = mean end error.
   cv::Mat gray(256, 1, CV_8UC1), lut;
   for (int i = 0; i < 256; ++i) gray.at<unsigned char>(i, 0) = static_cast<unsigned char>(i);
   cv::applyColorMap(gray, lut, cv::COLORMAP_JET);
   std::vector<cv::Point> gt_px;
-  for (const Eigen::Vector2d& q : gt_xy) gt_px.push_back(px(q));
+  for (const Eigen::Vector2d& q : gt_xy) gt_px.push_back(area.Px(q));
   cv::polylines(img, gt_px, false, kGtColour, 2, cv::LINE_AA);
   const double max_err = std::max(ate.stats.max, 1e-9);
   for (std::size_t k = 0; k < est_xy.size(); ++k) {
     const std::size_t prev = k == 0 ? 0 : k - 1;
     const cv::Scalar colour = JetColour(lut, 0.5 * (ate.errors[prev] + ate.errors[k]) / max_err);
-    cv::line(img, px(est_xy[prev]), px(est_xy[k]), colour, 2, cv::LINE_AA);
+    cv::line(img, area.Px(est_xy[prev]), area.Px(est_xy[k]), colour, 2, cv::LINE_AA);
   }
-
-  // Scale bar, bottom left inside the frame.
-  const cv::Point bar0(kLeft + 15, kTop + h - 15);
-  const cv::Point bar1(bar0.x + static_cast<int>(std::lround(step * scale)), bar0.y);
-  cv::line(img, bar0, bar1, kBlack, 3);
-  Text(img, Metres(step, step) + " m", {bar0.x, bar0.y - 8});
-
-  // Legend, top left inside the frame.
-  cv::rectangle(img, {kLeft + 10, kTop + 10, 260, 46}, cv::Scalar(255, 255, 255), cv::FILLED);
-  cv::rectangle(img, {kLeft + 10, kTop + 10, 260, 46}, kFrameColour);
-  cv::line(img, {kLeft + 20, kTop + 25}, {kLeft + 50, kTop + 25}, kGtColour, 2, cv::LINE_AA);
-  Text(img, "ground truth", {kLeft + 58, kTop + 29});
-  cv::line(img, {kLeft + 20, kTop + 45}, {kLeft + 35, kTop + 45}, JetColour(lut, 0.1), 2, cv::LINE_AA);
-  cv::line(img, {kLeft + 35, kTop + 45}, {kLeft + 50, kTop + 45}, JetColour(lut, 0.9), 2, cv::LINE_AA);
-  Text(img, "estimate (aligned), by error", {kLeft + 58, kTop + 49});
-
-  // Colour bar on the right, 0 at the bottom.
-  const int cb_x = options.width - kRight + 30;
-  for (int y = 0; y < h; ++y) {
-    cv::line(img, {cb_x, kTop + y}, {cb_x + 20, kTop + y}, JetColour(lut, 1.0 - y / double(h - 1)));
-  }
-  cv::rectangle(img, {cb_x, kTop, 21, h}, kFrameColour);
-  for (int k = 0; k <= 4; ++k) {
-    const int y = kTop + h - 1 - k * (h - 1) / 4;
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.4f", max_err * k / 4.0);
-    cv::line(img, {cb_x + 21, y}, {cb_x + 26, y}, kBlack);
-    Text(img, buf, {cb_x + 30, y + 4}, 0.4);
-  }
-  Text(img, "ATE [m]", {cb_x - 10, kTop - 10});
-
+  DrawScaleAndLegend(img, area, lut);
+  DrawColourBar(img, area, options, lut, max_err);
   char title[128];
   std::snprintf(title, sizeof title, "ATE RMSE %.4f m over %zu pairs (top view)", ate.stats.rmse, ate.stats.count);
   cv::putText(img, title, {kLeft, 30}, kFont, 0.65, kBlack, 1, cv::LINE_AA);

@@ -100,6 +100,44 @@ std::vector<double> UncoveredDepths(const std::vector<cv::Point>& pixels, const 
   return static_cast<int>(out.size()) >= min_points ? out : depths;
 }
 
+// Robust spread around `centre`: 1.4826 MAD, at least 1 cm (a flat face has MAD ~ 0).
+double Mad(const std::vector<double>& values, double centre) {
+  std::vector<double> dev(values.size());
+  for (std::size_t i = 0; i < values.size(); ++i) dev[i] = std::abs(values[i] - centre);
+  return std::max(Median(dev) * 1.4826, 0.01);
+}
+
+// 3-D outliers: points much further from the median point than the others.
+void DropOutliers(double mad_factor, std::vector<Eigen::Vector3f>& points) {
+  if (points.size() < 3) return;
+  Eigen::Vector3f m;
+  for (int a = 0; a < 3; ++a) {
+    std::vector<double> c;
+    c.reserve(points.size());
+    for (const auto& p : points) c.push_back(p[a]);
+    m[a] = static_cast<float>(Median(c));
+  }
+  std::vector<double> dist;
+  dist.reserve(points.size());
+  for (const auto& p : points) dist.push_back((p - m).norm());
+  const double dm = Median(dist);
+  const double limit = dm + mad_factor * Mad(dist, dm);
+  std::vector<Eigen::Vector3f> kept;
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (dist[i] <= limit) kept.push_back(points[i]);
+  }
+  points.swap(kept);
+}
+
+// Even thinning to at most max_points, deterministic.
+void Thin(int max_points, std::vector<Eigen::Vector3f>& points) {
+  if (static_cast<int>(points.size()) <= max_points) return;
+  std::vector<Eigen::Vector3f> thin;
+  const double stride = static_cast<double>(points.size()) / max_points;
+  for (int k = 0; k < max_points; ++k) thin.push_back(points[static_cast<std::size_t>(k * stride)]);
+  points.swap(thin);
+}
+
 }  // namespace
 
 std::vector<double> ObjectDepths(const std::vector<Detection>& detections, const cv::Mat& depth_raw,
@@ -148,9 +186,7 @@ std::optional<ObjectObservation> ObserveObject(const Detection& detection, const
   // would take the table's depth.
   const std::vector<double> own = UncoveredDepths(inner_pixels, inner_depths, other_boxes, config.object_min_points);
   const double median = Median(own);
-  std::vector<double> dev(own.size());
-  for (std::size_t i = 0; i < own.size(); ++i) dev[i] = std::abs(own[i] - median);
-  const double mad = std::max(Median(dev) * 1.4826, 0.01);  // 1 cm floor: a flat face has MAD ~ 0
+  const double mad = Mad(own, median);
   // ... then every depth of the original box is compared with it, and rejected
   // when too far (median / MAD: robust where the paper takes the mean), or
   // further than a share of the box's width at that depth (see SemanticConfig).
@@ -173,35 +209,9 @@ std::optional<ObjectObservation> ObserveObject(const Detection& detection, const
     points.emplace_back(r[0] * z, r[1] * z, z);
   }
   if (config.object_background_planes > 0) RemoveBackgroundPlanes(b, full, depth_raw, depth_factor, rays, config, median, points);
-  // 3-D outliers: points much further from the median point than the others.
-  if (points.size() >= 3) {
-    Eigen::Vector3f m;
-    for (int a = 0; a < 3; ++a) {
-      std::vector<double> c;
-      c.reserve(points.size());
-      for (const auto& p : points) c.push_back(p[a]);
-      m[a] = static_cast<float>(Median(c));
-    }
-    std::vector<double> dist;
-    dist.reserve(points.size());
-    for (const auto& p : points) dist.push_back((p - m).norm());
-    const double dm = Median(dist);
-    std::vector<double> ddev;
-    for (double d : dist) ddev.push_back(std::abs(d - dm));
-    const double limit = dm + config.object_mad_factor * std::max(Median(ddev) * 1.4826, 0.01);
-    std::vector<Eigen::Vector3f> kept;
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      if (dist[i] <= limit) kept.push_back(points[i]);
-    }
-    points.swap(kept);
-  }
+  DropOutliers(config.object_mad_factor, points);
   if (static_cast<int>(points.size()) < config.object_min_points) return std::nullopt;
-  if (static_cast<int>(points.size()) > config.object_max_points) {  // even thinning, deterministic
-    std::vector<Eigen::Vector3f> thin;
-    const double stride = static_cast<double>(points.size()) / config.object_max_points;
-    for (int k = 0; k < config.object_max_points; ++k) thin.push_back(points[static_cast<std::size_t>(k * stride)]);
-    points.swap(thin);
-  }
+  Thin(config.object_max_points, points);
   ObjectObservation o;
   o.class_id = detection.class_id;
   o.class_name = detection.class_name;

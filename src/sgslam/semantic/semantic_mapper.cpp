@@ -221,39 +221,65 @@ void SemanticMapper::Loop() {
 
 void SemanticMapper::ProcessKeyFrame(const SemanticInput& input, const std::vector<CarriedBox>& carried) {
   const Stopwatch total;
-  const SemanticConfig& c = config_;
-  const KeyFrame& kf = *input.keyframe;
-  const Features& f = *kf.features;
   SE3 T_w_c;
   {
     std::shared_lock lock(map_.mutex());
-    T_w_c = kf.PlacedT_c_w().Inverse();
+    T_w_c = input.keyframe->PlacedT_c_w().Inverse();
   }
   StageMs ms{};
   Stopwatch stage;
-  // The keyframe's own boxes, plus the movers the larger keyframe model finds.
-  std::vector<Detection> movers = f.detections;
-  if (keyframe_detector_) {
-    try {
-      for (Detection& d : keyframe_detector_->Detect(input.bgr, kf.t)) {
-        if (classes_.is_dynamic(d.class_name)) movers.push_back(std::move(d));
-      }
-    } catch (const std::exception& e) {
-      // The map goes on with tracking's boxes; the thread must not die with it.
-      spdlog::warn("semantic map: the keyframe detector failed ({}); going on without it", e.what());
-      keyframe_detector_.reset();
-    }
-  }
+  const std::vector<Detection> movers = Movers(input);
   ms.detect = stage.ElapsedMs();
   stage.Restart();
   // surface: where the movers themselves were, for the seen-moving filter (a whole
   // box would mark the background behind a person as seen moving).
   cv::Mat surface;
-  const bool seen_moving = c.seen_moving_ratio > 0;
-  cv::Mat mask = DynamicPixelMask(input.depth, camera_->config().depth_factor, movers, classes_, f.keys, f.dynamic,
-                                  c, f.unjudged, seen_moving ? &surface : nullptr);
-  MaskCarriedBoxes(carried, input.depth, camera_->config().depth_factor, c.box_window_band, mask);
-  if (seen_moving) MaskCarriedBoxes(carried, input.depth, camera_->config().depth_factor, c.seen_moving_band, surface);
+  const cv::Mat mask = DynamicMask(input, movers, carried, config_.seen_moving_ratio > 0 ? &surface : nullptr);
+  ms.mask = stage.ElapsedMs();
+  stage.Restart();
+  KeyFrameCloud cloud = MakeCloud(input, mask, surface);
+  ms.cloud = stage.ElapsedMs();
+  stage.Restart();
+  std::vector<ColoredPoint> ray_points = BackProject(input.bgr, input.depth, camera_->config().depth_factor, mask,
+                                                     rays_, config_.octomap_stride, config_);
+  octomap_.Insert(cloud.points_c, ray_points, T_w_c);
+  ms.octomap = stage.ElapsedMs();
+  clouds_.push_back(std::move(cloud));
+  ray_points_.push_back(std::move(ray_points));
+  stage.Restart();
+  ObserveObjects(input, T_w_c);
+  ms.objects = stage.ElapsedMs();
+
+  std::lock_guard lock(mutex_);
+  ++stats_.keyframes;
+  stats_.ms.push_back(total.ElapsedMs());
+  stage_ms_.push_back(ms);
+}
+
+std::vector<Detection> SemanticMapper::Movers(const SemanticInput& input) {
+  // The keyframe's own boxes, plus the movers the larger keyframe model finds.
+  std::vector<Detection> movers = input.keyframe->features->detections;
+  if (!keyframe_detector_) return movers;
+  try {
+    for (Detection& d : keyframe_detector_->Detect(input.bgr, input.keyframe->t)) {
+      if (classes_.is_dynamic(d.class_name)) movers.push_back(std::move(d));
+    }
+  } catch (const std::exception& e) {
+    // The map goes on with tracking's boxes; the thread must not die with it.
+    spdlog::warn("semantic map: the keyframe detector failed ({}); going on without it", e.what());
+    keyframe_detector_.reset();
+  }
+  return movers;
+}
+
+cv::Mat SemanticMapper::DynamicMask(const SemanticInput& input, const std::vector<Detection>& movers,
+                                    const std::vector<CarriedBox>& carried, cv::Mat* surface) const {
+  const SemanticConfig& c = config_;
+  const Features& f = *input.keyframe->features;
+  const double depth_factor = camera_->config().depth_factor;
+  cv::Mat mask = DynamicPixelMask(input.depth, depth_factor, movers, classes_, f.keys, f.dynamic, c, f.unjudged, surface);
+  MaskCarriedBoxes(carried, input.depth, depth_factor, c.box_window_band, mask);
+  if (surface) MaskCarriedBoxes(carried, input.depth, depth_factor, c.seen_moving_band, *surface);
   if (c.cloud_border > 0) {
     // No keypoint (ORB's edge margin) and so no motion evidence reaches the border,
     // and the detector misses the people it cuts: it stays out of the map.
@@ -261,59 +287,53 @@ void SemanticMapper::ProcessKeyFrame(const SemanticInput& input, const std::vect
     mask.rowRange(0, b).setTo(255), mask.rowRange(mask.rows - b, mask.rows).setTo(255);
     mask.colRange(0, b).setTo(255), mask.colRange(mask.cols - b, mask.cols).setTo(255);
   }
-  ms.mask = stage.ElapsedMs();
+  return mask;
+}
 
-  stage.Restart();
+SemanticMapper::KeyFrameCloud SemanticMapper::MakeCloud(const SemanticInput& input, const cv::Mat& mask,
+                                                        const cv::Mat& surface) const {
+  const SemanticConfig& c = config_;
+  const double depth_factor = camera_->config().depth_factor;
+  const bool seen_moving = c.seen_moving_ratio > 0;
   KeyFrameCloud cloud;
   cloud.keyframe = input.keyframe;
-  cloud.points_c = VoxelDownsample(
-      BackProject(input.bgr, input.depth, camera_->config().depth_factor, mask, rays_, c.cloud_stride, c), c.cloud_voxel);
-  if (c.consistency_filter || seen_moving) {
-    cloud.depth_pooled = MinPooledDepth(input.depth, camera_->config().depth_factor, c.consistency_pool);
-  }
-  if (seen_moving) cloud.moving_pooled = MinPooledDepth(input.depth, camera_->config().depth_factor, c.consistency_pool, surface);
-  ms.cloud = stage.ElapsedMs();
+  cloud.points_c =
+      VoxelDownsample(BackProject(input.bgr, input.depth, depth_factor, mask, rays_, c.cloud_stride, c), c.cloud_voxel);
+  if (c.consistency_filter || seen_moving) cloud.depth_pooled = MinPooledDepth(input.depth, depth_factor, c.consistency_pool);
+  if (seen_moving) cloud.moving_pooled = MinPooledDepth(input.depth, depth_factor, c.consistency_pool, surface);
+  return cloud;
+}
 
-  stage.Restart();
-  std::vector<ColoredPoint> ray_points =
-      BackProject(input.bgr, input.depth, camera_->config().depth_factor, mask, rays_, c.octomap_stride, c);
-  octomap_.Insert(cloud.points_c, ray_points, T_w_c);
-  ms.octomap = stage.ElapsedMs();
-  clouds_.push_back(std::move(cloud));
-  ray_points_.push_back(std::move(ray_points));
-
-  stage.Restart();
-  // Every box of the frame, people's too, may hide part of another (computed only
-  // when some detection gives an object: most keyframes of a dynamic scene have none).
+void SemanticMapper::ObserveObjects(const SemanticInput& input, const SE3& T_w_c) {
+  const SemanticConfig& c = config_;
+  const std::vector<Detection>& detections = input.keyframe->features->detections;
+  const double depth_factor = camera_->config().depth_factor;
   // Sec. III-E: every detection except those of dynamic objects (people, dogs).
   const auto gives_object = [&](const Detection& d) {
     return !classes_.is_dynamic(d.class_name) && d.score >= c.object_min_score;
   };
-  const std::vector<double> object_depths =
-      std::any_of(f.detections.begin(), f.detections.end(), gives_object)
-          ? ObjectDepths(f.detections, input.depth, camera_->config().depth_factor, c)
-          : std::vector<double>();
-  for (std::size_t i = 0; i < f.detections.size(); ++i) {
-    const Detection& d = f.detections[i];
+  // Every box of the frame, people's too, may hide part of another (computed only
+  // when some detection gives an object: most keyframes of a dynamic scene have none).
+  const std::vector<double> object_depths = std::any_of(detections.begin(), detections.end(), gives_object)
+                                                ? ObjectDepths(detections, input.depth, depth_factor, c)
+                                                : std::vector<double>();
+  for (std::size_t i = 0; i < detections.size(); ++i) {
+    const Detection& d = detections[i];
     if (!gives_object(d)) continue;
     std::vector<OtherBox> others;
-    for (std::size_t j = 0; j < f.detections.size(); ++j)
-      if (j != i) others.push_back({f.detections[j].box, object_depths[j]});
-    auto obs = ObserveObject(d, input.depth, camera_->config().depth_factor, rays_, c, others);
+    for (std::size_t j = 0; j < detections.size(); ++j) {
+      if (j != i) others.push_back({detections[j].box, object_depths[j]});
+    }
+    auto obs = ObserveObject(d, input.depth, depth_factor, rays_, c, others);
     if (!obs) continue;
     obs->keyframe = input.keyframe;
     const int b = c.object_border;
-    const bool cut = d.box.x < b || d.box.y < b || d.box.x + d.box.width > input.depth.cols - b ||
-                     d.box.y + d.box.height > input.depth.rows - b;
-    obs->cut = cut;  // may start an object (an object never seen whole is still in the room)
+    // A box cut by the image border is a partial view; it may still start an
+    // object (one never seen whole is still in the room).
+    obs->cut = d.box.x < b || d.box.y < b || d.box.x + d.box.width > input.depth.cols - b ||
+               d.box.y + d.box.height > input.depth.rows - b;
     objects_.Add(std::move(*obs), T_w_c);
   }
-  ms.objects = stage.ElapsedMs();
-
-  std::lock_guard lock(mutex_);
-  ++stats_.keyframes;
-  stats_.ms.push_back(total.ElapsedMs());
-  stage_ms_.push_back(ms);
 }
 
 void SemanticMapper::FilterAndRebuild() {

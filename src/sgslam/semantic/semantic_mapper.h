@@ -108,6 +108,15 @@ class SemanticMapper {
  private:
   void Loop();
   void ProcessKeyFrame(const SemanticInput& input, const std::vector<CarriedBox>& carried);
+  // ProcessKeyFrame's steps: the keyframe's movers (its boxes and the keyframe
+  // detector's); its dynamic pixel mask (surface: the movers' own pixels, for the
+  // seen-moving filter; null when that is off); its static cloud; its objects.
+  std::vector<Detection> Movers(const SemanticInput& input);
+  cv::Mat DynamicMask(const SemanticInput& input, const std::vector<Detection>& movers,
+                      const std::vector<CarriedBox>& carried, cv::Mat* surface) const;
+  struct KeyFrameCloud;
+  KeyFrameCloud MakeCloud(const SemanticInput& input, const cv::Mat& mask, const cv::Mat& surface) const;
+  void ObserveObjects(const SemanticInput& input, const SE3& T_w_c);
   // Under mutex_: the boxes of the frames around the keyframe's, in its image.
   std::vector<CarriedBox> CarriedBoxes(std::uint64_t keyframe_frame_id) const;
   bool WindowComplete(std::uint64_t keyframe_frame_id) const;  // under mutex_

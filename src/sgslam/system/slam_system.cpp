@@ -130,15 +130,30 @@ void SlamSystem::ToSemantic(SemanticInput item) {
 }
 
 FrameReport SlamSystem::Process(const RgbdImages& images) {
-  Stopwatch total;
+  const Stopwatch total;
   FrameReport report;
   report.index = images.index;
   report.t = images.t;
-
-  // The detector works on this frame while ORB features are extracted (Fig. 1).
   const std::uint64_t frame_id = next_frame_id_++;
-  dynamic_.Submit(frame_id, images.t, images.bgr);
-  Stopwatch watch;
+  dynamic_.Submit(frame_id, images.t, images.bgr);  // the detector works on it while ORB runs (Fig. 1)
+  Frame frame = MakeFrame(frame_id, images, report);
+  const TrackResult result = Track(frame, report);
+  RecordPoses(frame, result);
+  HandOverKeyFrames(frame, result, images, report);
+  // After the keyframe's hand-over: in sequential mode this may complete its box
+  // window. Every frame counts towards the window (a lost stretch must not hold
+  // keyframes back); a lost frame's boxes are not carried, its pose is unknown.
+  if (semantic_) {
+    static const std::vector<Detection> kNone;
+    const bool tracked = result.state == TrackState::kOk;
+    semantic_->AddFrame(frame.id, frame.T_c_w, tracked ? frame.features->detections : kNone, images.depth);
+  }
+  report.total_ms = total.ElapsedMs();
+  return report;
+}
+
+Frame SlamSystem::MakeFrame(std::uint64_t frame_id, const RgbdImages& images, FrameReport& report) {
+  const Stopwatch watch;
   cv::Mat gray;
   cv::cvtColor(images.bgr, gray, cv::COLOR_BGR2GRAY);
   std::vector<cv::KeyPoint> keys;
@@ -146,7 +161,7 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
   extractor_.Extract(gray, keys, descriptors);
   report.extract_ms = watch.ElapsedMs();
 
-  DynamicOutcome dyn = dynamic_.Label(frame_id, gray, images.depth, keys);
+  DynamicOutcome dyn = dynamic_.Label(frame_id, gray, images.depth, keys);  // Algorithm 1
   report.kept = dyn.judged ? dyn.kept : static_cast<int>(keys.size());
   report.rejected_geometry = dyn.rejected_geometry;
   report.rejected_semantics = dyn.rejected_semantics;
@@ -168,13 +183,6 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
   report.keypoints.reserve(frame.size());
   for (const auto& k : frame.features->keys) report.keypoints.push_back(k.pt);
   report.rejected = frame.rejected;
-
-  watch.Restart();
-  // Local mapping counts as idle busy_frames after the last keyframe (see
-  // MappingConfig::busy_frames); in parallel also whenever it really is idle.
-  // A keyframe queued while its BA runs interrupts it (the mapper's interrupted()).
-  const bool waited = frame.id >= last_keyframe_frame_id_ + static_cast<std::uint64_t>(config_.mapping.busy_frames);
-  const bool idle = sequential_ ? waited : (queue_.size() == 0 && (!mapping_busy_ || waited));
   if (!dyn.static_in_first.empty()) {
     // The first keyframe was judged by its boxes alone; judged again with this frame.
     const int cleared = tracker_.ConfirmStaticInFirstKeyFrame(dyn.static_in_first);
@@ -182,6 +190,16 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
       spdlog::info("first keyframe: {} keypoints its boxes rejected are static, judged with the next frame", cleared);
     }
   }
+  return frame;
+}
+
+TrackResult SlamSystem::Track(Frame& frame, FrameReport& report) {
+  const Stopwatch watch;
+  // Local mapping counts as idle busy_frames after the last keyframe (see
+  // MappingConfig::busy_frames); in parallel also whenever it really is idle.
+  // A keyframe queued while its BA runs interrupts it (the mapper's interrupted()).
+  const bool waited = frame.id >= last_keyframe_frame_id_ + static_cast<std::uint64_t>(config_.mapping.busy_frames);
+  const bool idle = sequential_ ? waited : (queue_.size() == 0 && (!mapping_busy_ || waited));
   const bool full = !sequential_ && queue_.size() >= static_cast<std::size_t>(config_.mapping.queue_size);
   const TrackResult result = tracker_.Track(frame, idle, full);
   report.state = result.state;
@@ -189,44 +207,41 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
   report.inliers = result.inliers;
   report.trusted = result.trusted;
   report.track_ms = watch.ElapsedMs();
+  return result;
+}
+
+void SlamSystem::RecordPoses(const Frame& frame, const TrackResult& result) {
+  std::shared_lock lock(map_.mutex());
   if (result.previous_refined && !records_.empty() && records_.back().frame_id == result.previous_refined->frame_id) {
     // The previous frame, fitted again with the velocity of the frames on either
     // side of it: its exported pose (relative to the same reference keyframe).
-    std::shared_lock lock(map_.mutex());
     PoseRecord& r = records_.back();
     r.T_c_r = result.previous_refined->T_c_w * r.reference->T_w_c();
   }
   if (result.state == TrackState::kOk && frame.reference_kf) {
-    std::shared_lock lock(map_.mutex());
-    records_.push_back({frame.id, frame.t, frame.reference_kf, frame.T_c_w * frame.reference_kf->T_w_c(), frame.T_c_w.Inverse()});
+    records_.push_back({frame.id, frame.t, frame.reference_kf, frame.T_c_w * frame.reference_kf->T_w_c(),
+                        frame.T_c_w.Inverse()});
   }
+}
+
+void SlamSystem::HandOverKeyFrames(const Frame& frame, const TrackResult& result, const RgbdImages& images,
+                                   FrameReport& report) {
   // The last frame's keyframe, corrected by Track with this frame's pose (Tracker::KeyFramesWait).
   if (waiting_) {
     HandOver(std::move(*waiting_));
     waiting_.reset();
   }
-  if (result.new_keyframe) {
-    report.keyframe = true;
-    last_keyframe_frame_id_ = frame.id;
-    SemanticInput item{result.new_keyframe, images.bgr, images.depth};
-    // A keyframe judged by its boxes alone stays with tracking for one more frame
-    // too (Tracker::ConfirmStaticInFirstKeyFrame).
-    if (tracker_.KeyFramesWait() || dynamic_.boxes_only()) {
-      waiting_ = std::move(item);
-    } else {
-      HandOver(std::move(item));
-    }
+  if (!result.new_keyframe) return;
+  report.keyframe = true;
+  last_keyframe_frame_id_ = frame.id;
+  SemanticInput item{result.new_keyframe, images.bgr, images.depth};
+  // A keyframe judged by its boxes alone stays with tracking for one more frame
+  // too (Tracker::ConfirmStaticInFirstKeyFrame).
+  if (tracker_.KeyFramesWait() || dynamic_.boxes_only()) {
+    waiting_ = std::move(item);
+  } else {
+    HandOver(std::move(item));
   }
-  // After the keyframe's hand-over: in sequential mode this may complete its box
-  // window. Every frame counts towards the window (a lost stretch must not hold
-  // keyframes back); a lost frame's boxes are not carried, its pose is unknown.
-  if (semantic_) {
-    static const std::vector<Detection> kNone;
-    const bool tracked = result.state == TrackState::kOk;
-    semantic_->AddFrame(frame.id, frame.T_c_w, tracked ? frame.features->detections : kNone, images.depth);
-  }
-  report.total_ms = total.ElapsedMs();
-  return report;
 }
 
 Trajectory SlamSystem::FrameTrajectory() const {

@@ -92,6 +92,13 @@ class SlamSystem {
   }
 
  private:
+  // Process's steps: ORB features and Algorithm 1's labels; tracking; the exported
+  // poses; the keyframes to local mapping.
+  Frame MakeFrame(std::uint64_t frame_id, const RgbdImages& images, FrameReport& report);
+  TrackResult Track(Frame& frame, FrameReport& report);
+  void RecordPoses(const Frame& frame, const TrackResult& result);
+  void HandOverKeyFrames(const Frame& frame, const TrackResult& result, const RgbdImages& images,
+                         FrameReport& report);
   void MappingLoop();
   void Stop(bool final_ba);
   void ToSemantic(SemanticInput item);

@@ -1,0 +1,130 @@
+#include "run_outputs.h"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <sstream>
+
+#include "map_plot.h"
+#include "semantic_output.h"
+#include "sgslam/common/stats.h"
+#include "sgslam/detection/detections_file.h"
+#include "sgslam/io/ply.h"
+#include "sgslam/io/text_file.h"
+
+namespace sgslam::app {
+
+namespace {
+
+nlohmann::json MedianOf(const std::vector<FrameReport>& reports, double FrameReport::*field) {
+  std::vector<double> v;
+  v.reserve(reports.size());
+  for (const auto& r : reports) v.push_back(r.*field);
+  return Median(std::move(v));
+}
+
+}  // namespace
+
+void WriteFramesCsv(const std::filesystem::path& path, const std::vector<FrameReport>& reports) {
+  std::ostringstream csv;
+  csv << "index,timestamp,state,features,kept,rejected_geometry,rejected_semantics,rejected_depth,detections,"
+         "carried,detector_late,matches,inliers,trusted,keyframe,extract_ms,detector_ms,wait_ms,reject_ms,track_ms,total_ms\n";
+  for (const auto& r : reports) {
+    csv << r.index << ',' << FormatTimestamp(r.t) << ',' << ToString(r.state) << ',' << r.features << ',' << r.kept
+        << ',' << r.rejected_geometry << ',' << r.rejected_semantics << ',' << r.rejected_depth << ','
+        << r.detections << ',' << r.carried << ',' << (r.detector_late ? 1 : 0) << ',' << r.matches << ','
+        << r.inliers << ',' << r.trusted << ',' << (r.keyframe ? 1 : 0) << ',' << r.extract_ms << ','
+        << r.detector_ms << ',' << r.wait_ms << ',' << r.reject_ms << ',' << r.track_ms << ',' << r.total_ms << '\n';
+  }
+  WriteFileAtomically(path, csv.str());
+}
+
+void WriteDetections(const std::filesystem::path& path, std::vector<FrameReport>& reports) {
+  std::vector<FrameDetections> boxes;
+  for (auto& r : reports) {
+    if (!r.boxes.empty()) boxes.emplace_back(r.t, std::move(r.boxes));
+  }
+  WriteDetectionsFile(path, boxes);
+}
+
+nlohmann::json WriteSemanticMap(const std::filesystem::path& out, SlamSystem& system,
+                                const Trajectory& trajectory, bool print_objects) {
+  SemanticMapper* sem = system.semantic();
+  std::vector<Eigen::Vector3d> cloud;
+  std::vector<Rgb> colours;
+  std::vector<ObjectEstimate> objects;
+  system.ExportSemantic(cloud, colours, objects);
+  WritePly(out / "cloud.ply", cloud, colours);
+  sem->octomap().Write(out / "octomap.bt");
+  WriteObjectsJson(out / "objects.json", objects);
+  WriteTopView(out / "map_top.png", cloud, colours, objects, trajectory);
+  if (print_objects) PrintObjectTable(objects);
+  const SemanticStats st = sem->stats();
+  if (st.dropped > 0) spdlog::warn("semantic mapping fell behind: {} keyframes left out of the map", st.dropped);
+  return {{"keyframes", st.keyframes},
+          {"keyframes_dropped", st.dropped},
+          {"median_keyframe_ms", Median(st.ms)},
+          {"median_detect_ms", st.median_detect_ms},
+          {"median_mask_ms", st.median_mask_ms},
+          {"median_cloud_ms", st.median_cloud_ms},
+          {"median_octomap_ms", st.median_octomap_ms},
+          {"median_objects_ms", st.median_objects_ms},
+          {"cloud_points", st.cloud_points},
+          {"cloud_points_removed_as_free", st.cloud_points_freed},
+          {"cloud_points_removed_as_seen_through", sem->inconsistent_points()},
+          {"cloud_points_removed_as_seen_moving", sem->seen_moving_points()},
+          {"cloud_points_removed_as_seen_once", sem->unsupported_points()},
+          {"octomap_occupied_leaves", sem->octomap().OccupiedLeaves()},
+          {"objects", std::count_if(objects.begin(), objects.end(), [](const auto& e) { return e.exported; })}};
+}
+
+double MedianFrameMs(const std::vector<FrameReport>& reports) {
+  return MedianOf(reports, &FrameReport::total_ms).get<double>();
+}
+
+nlohmann::json MedianMsJson(const std::vector<FrameReport>& reports, double median_frame_ms) {
+  return {{"extract", MedianOf(reports, &FrameReport::extract_ms)},
+          {"detector", MedianOf(reports, &FrameReport::detector_ms)},
+          {"detector_wait", MedianOf(reports, &FrameReport::wait_ms)},
+          {"reject", MedianOf(reports, &FrameReport::reject_ms)},
+          {"track", MedianOf(reports, &FrameReport::track_ms)},
+          {"frame", median_frame_ms}};
+}
+
+nlohmann::json DynamicJson(const std::vector<FrameReport>& reports, const SlamSystem& system) {
+  std::size_t late = 0;
+  double rejected = 0, features = 0;
+  for (const auto& r : reports) {
+    late += r.detector_late ? 1 : 0;
+    rejected += r.features - r.kept;
+    features += r.features;
+  }
+  const DetectionWorkerStats d = system.detector_stats();
+  return {{"rejected_share", features > 0 ? rejected / features : 0.0},
+          {"detector", system.DescribeDetector()},
+          {"detector_late_frames", late},
+          {"detector_submitted", d.submitted},
+          {"detector_processed", d.processed},
+          {"detector_dropped", d.dropped},
+          {"detector_errors", d.errors}};
+}
+
+nlohmann::json LocalMappingJson(const SlamSystem& system) {
+  const auto mapping = system.mapping_stats();
+  const auto median = [&](auto field) {
+    std::vector<double> v;
+    for (const auto& m : mapping) v.push_back(static_cast<double>(m.*field));
+    return Median(std::move(v));
+  };
+  return {{"keyframes_processed", mapping.size()},
+          {"median_ms", median(&MappingStats::ms)},
+          {"median_insert_ms", median(&MappingStats::insert_ms)},
+          {"median_triangulate_ms", median(&MappingStats::triangulate_ms)},
+          {"median_fuse_ms", median(&MappingStats::fuse_ms)},
+          {"median_ba_ms", median(&MappingStats::ba_ms)},
+          {"median_cull_ms", median(&MappingStats::cull_ms)},
+          {"median_ba_keyframes", median(&MappingStats::local_keyframes)},
+          {"median_ba_points", median(&MappingStats::local_points)}};
+}
+
+}  // namespace sgslam::app

@@ -1,0 +1,31 @@
+// The files `sgslam run` writes at the end (architecture.md's output contract),
+// each from the frame reports or the finished system.
+#pragma once
+
+#include <filesystem>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "sgslam/io/trajectory.h"
+#include "sgslam/system/slam_system.h"
+
+namespace sgslam::app {
+
+// frames.csv: one row a frame.
+void WriteFramesCsv(const std::filesystem::path& path, const std::vector<FrameReport>& reports);
+// detections.txt in the file backend's format (detection/detections_file.h), so a
+// later run can replay them; takes the reports' boxes.
+void WriteDetections(const std::filesystem::path& path, std::vector<FrameReport>& reports);
+// cloud.ply, octomap.bt, objects.json, map_top.png (and the object table on
+// stdout when print_objects); returns stats.json's semantic section.
+nlohmann::json WriteSemanticMap(const std::filesystem::path& out, SlamSystem& system,
+                                const Trajectory& trajectory, bool print_objects);
+
+// stats.json sections.
+nlohmann::json MedianMsJson(const std::vector<FrameReport>& reports, double median_frame_ms);
+nlohmann::json DynamicJson(const std::vector<FrameReport>& reports, const SlamSystem& system);
+nlohmann::json LocalMappingJson(const SlamSystem& system);
+double MedianFrameMs(const std::vector<FrameReport>& reports);
+
+}  // namespace sgslam::app
