@@ -1,6 +1,10 @@
-// A small bounded queue for passing messages between threads (architecture.md,
-// "Threads and data flow"): blocking push and pop, and Shutdown() that wakes every
-// waiter. No sleeps, no polling.
+// The one bounded queue for passing messages between threads (architecture.md,
+// "Threads and data flow"; Basalt's typed queues): a blocking pop, a Shutdown()
+// that wakes every waiter, and what a full queue does with a new item:
+//   kBlock       the producer waits for room (local mapping's keyframes, the reader);
+//   kDropOldest  the oldest item is dropped and counted: a live system behind the
+//                camera wants the newest data, stale items are worthless (detector).
+// No sleeps, no polling.
 #pragma once
 
 #include <condition_variable>
@@ -11,19 +15,35 @@
 
 namespace sgslam {
 
+enum class Overflow { kBlock, kDropOldest };
+
 template <class T>
 class BoundedQueue {
  public:
-  explicit BoundedQueue(std::size_t capacity) : capacity_(capacity == 0 ? 1 : capacity) {}
+  explicit BoundedQueue(std::size_t capacity, Overflow overflow = Overflow::kBlock)
+      : capacity_(capacity == 0 ? 1 : capacity), overflow_(overflow) {}
 
-  // Blocks while full. Returns false (and drops the item) after Shutdown().
-  bool Push(T item) {
+  struct Pushed {
+    bool accepted = false;   // false after Shutdown(): the item was discarded
+    std::optional<T> dropped;  // kDropOldest: the item pushed out to make room
+  };
+  // kBlock: blocks while full. kDropOldest: never blocks.
+  Pushed Push(T item) {
     std::unique_lock lock(mutex_);
-    not_full_.wait(lock, [&] { return shut_down_ || items_.size() < capacity_; });
-    if (shut_down_) return false;
+    if (overflow_ == Overflow::kBlock) {
+      not_full_.wait(lock, [&] { return shut_down_ || items_.size() < capacity_; });
+    }
+    Pushed out;
+    if (shut_down_) return out;
+    if (items_.size() >= capacity_) {
+      out.dropped = std::move(items_.front());
+      items_.pop_front();
+      ++dropped_;
+    }
     items_.push_back(std::move(item));
+    out.accepted = true;
     not_empty_.notify_one();
-    return true;
+    return out;
   }
 
   // Blocks while empty. Returns nullopt once shut down and drained.
@@ -45,16 +65,32 @@ class BoundedQueue {
     not_full_.notify_all();
   }
 
+  // Takes every queued item out (for a consumer that abandons them at shutdown).
+  std::deque<T> Clear() {
+    std::lock_guard lock(mutex_);
+    std::deque<T> out;
+    out.swap(items_);
+    not_full_.notify_all();
+    return out;
+  }
+
   std::size_t size() const {
     std::lock_guard lock(mutex_);
     return items_.size();
   }
+  std::size_t capacity() const { return capacity_; }
+  std::size_t dropped() const {
+    std::lock_guard lock(mutex_);
+    return dropped_;
+  }
 
  private:
   const std::size_t capacity_;
+  const Overflow overflow_;
   mutable std::mutex mutex_;
   std::condition_variable not_empty_, not_full_;
   std::deque<T> items_;
+  std::size_t dropped_ = 0;
   bool shut_down_ = false;
 };
 

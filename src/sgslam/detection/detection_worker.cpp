@@ -11,7 +11,7 @@ namespace sgslam {
 
 namespace {
 
-// Results nobody waits for (a consumer that skips Wait) are capped at this many.
+// Outcomes nobody waits for (a consumer that skips Wait) are capped at this many.
 constexpr std::size_t kMaxKeptResults = 16;
 // wait_for adds the timeout to now(): keep the sum far from overflowing.
 constexpr std::chrono::milliseconds kMaxTimeout = std::chrono::hours(24);
@@ -21,7 +21,8 @@ constexpr std::chrono::milliseconds kMaxTimeout = std::chrono::hours(24);
 DetectionWorker::DetectionWorker(std::unique_ptr<Detector> detector, Options options)
     : detector_(std::move(detector)),
       options_{options.sequential, std::max<std::size_t>(options.max_pending, 1)},
-      description_(detector_ ? detector_->Describe() : "") {
+      description_(detector_ ? detector_->Describe() : ""),
+      pending_(options_.max_pending, Overflow::kDropOldest) {
   if (!detector_) throw std::invalid_argument("DetectionWorker needs a detector");
   if (!options_.sequential) thread_ = std::thread([this] { Run(); });
 }
@@ -44,34 +45,27 @@ void DetectionWorker::Submit(std::uint64_t frame_id, Timestamp t, cv::Mat bgr) {
       ++stats_.dropped;
       return;
     }
-    if (!options_.sequential) {
-      if (pending_.size() >= options_.max_pending) {
-        pending_.pop_front();  // its waiter, if any, sees it is no longer outstanding
-        ++stats_.dropped;
-        result_ready_.notify_all();
-      }
-      pending_.push_back(Job{frame_id, t, std::move(bgr)});
-      work_ready_.notify_one();
-      return;
-    }
-    in_progress_ = frame_id;
+    slots_[frame_id];  // outstanding
   }
-  Process(Job{frame_id, t, std::move(bgr)});
+  if (options_.sequential) {
+    Process(Job{frame_id, t, std::move(bgr)});
+    return;
+  }
+  auto pushed = pending_.Push(Job{frame_id, t, std::move(bgr)});
+  std::lock_guard lock(mutex_);
+  if (!pushed.accepted) Dropped(frame_id);  // shut down meanwhile
+  if (pushed.dropped) Dropped(pushed.dropped->frame_id);
 }
 
 void DetectionWorker::Run() {
-  for (;;) {
-    Job job;
-    {
-      std::unique_lock lock(mutex_);
-      work_ready_.wait(lock, [&] { return shut_down_ || !pending_.empty(); });
-      if (shut_down_) return;
-      job = std::move(pending_.front());
-      pending_.pop_front();
-      in_progress_ = job.frame_id;
-    }
-    Process(std::move(job));
-  }
+  while (auto job = pending_.Pop()) Process(std::move(*job));
+}
+
+void DetectionWorker::Dropped(std::uint64_t frame_id) {
+  ++stats_.dropped;
+  if (const auto it = slots_.find(frame_id); it != slots_.end()) it->second.outstanding = false;
+  KeepResultsBounded();
+  result_ready_.notify_all();  // its waiter, if any, sees it is no longer outstanding
 }
 
 void DetectionWorker::Process(Job job) {
@@ -87,7 +81,6 @@ void DetectionWorker::Process(Job job) {
   job.bgr.release();
 
   std::lock_guard lock(mutex_);
-  in_progress_.reset();
   ++stats_.processed;
   stats_.total_inference_ms += result.inference_ms;
   stats_.max_inference_ms = std::max(stats_.max_inference_ms, result.inference_ms);
@@ -98,8 +91,11 @@ void DetectionWorker::Process(Job job) {
     // references in code TSan does not see).
     if (!error_) error_ = std::move(error);  // the first one explains the rest
     error = nullptr;
-  } else if (!last_waited_ || job.frame_id > *last_waited_) {
-    results_.emplace(job.frame_id, std::move(result));
+  }
+  // A frame whose slot is gone was waited past: its result is of no use.
+  if (const auto it = slots_.find(job.frame_id); it != slots_.end()) {
+    it->second.outstanding = false;
+    if (!error) it->second.result = std::move(result);
     KeepResultsBounded();
   }
   result_ready_.notify_all();
@@ -113,11 +109,15 @@ std::optional<std::vector<Detection>> DetectionWorker::Wait(std::uint64_t frame_
 
 std::optional<DetectionResult> DetectionWorker::WaitResult(std::uint64_t frame_id, std::chrono::milliseconds timeout) {
   std::unique_lock lock(mutex_);
+  const auto outstanding = [&] {
+    const auto it = slots_.find(frame_id);
+    return it != slots_.end() && it->second.outstanding;
+  };
   const bool done = result_ready_.wait_for(lock, std::clamp(timeout, std::chrono::milliseconds(0), kMaxTimeout),
-                                           [&] { return shut_down_ || error_ || !Outstanding(frame_id); });
+                                           [&] { return shut_down_ || error_ || !outstanding(); });
   std::optional<DetectionResult> out;
-  if (const auto it = results_.find(frame_id); it != results_.end()) out = std::move(it->second);
-  results_.erase(results_.begin(), results_.upper_bound(frame_id));
+  if (const auto it = slots_.find(frame_id); it != slots_.end()) out = std::move(it->second.result);
+  slots_.erase(slots_.begin(), slots_.upper_bound(frame_id));
   last_waited_ = std::max(last_waited_.value_or(0), frame_id);
   if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
   if (!done) ++stats_.timeouts;
@@ -125,12 +125,15 @@ std::optional<DetectionResult> DetectionWorker::WaitResult(std::uint64_t frame_i
 }
 
 void DetectionWorker::Shutdown() {
+  {
+    std::lock_guard lock(mutex_);
+    if (shut_down_) return;
+    shut_down_ = true;
+  }
+  pending_.Shutdown();
+  const auto abandoned = pending_.Clear();
   std::lock_guard lock(mutex_);
-  if (shut_down_) return;
-  shut_down_ = true;
-  stats_.dropped += pending_.size();
-  pending_.clear();
-  work_ready_.notify_all();
+  for (const Job& job : abandoned) Dropped(job.frame_id);
   result_ready_.notify_all();
 }
 
@@ -139,13 +142,17 @@ DetectionWorkerStats DetectionWorker::stats() const {
   return stats_;
 }
 
-bool DetectionWorker::Outstanding(std::uint64_t frame_id) const {
-  if (in_progress_ == frame_id) return true;
-  return std::any_of(pending_.begin(), pending_.end(), [&](const Job& j) { return j.frame_id == frame_id; });
-}
-
 void DetectionWorker::KeepResultsBounded() {
-  while (results_.size() > kMaxKeptResults) results_.erase(results_.begin());
+  std::size_t done = 0;
+  for (const auto& [id, slot] : slots_) done += !slot.outstanding;
+  for (auto it = slots_.begin(); done > kMaxKeptResults && it != slots_.end();) {
+    if (it->second.outstanding) {
+      ++it;
+    } else {
+      it = slots_.erase(it);
+      --done;
+    }
+  }
 }
 
 }  // namespace sgslam

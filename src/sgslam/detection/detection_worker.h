@@ -8,8 +8,8 @@
 //   Shutdown() and stats() by any thread. Frame ids must increase from Submit to
 //   Submit.
 // - Submit never blocks on inference: at most max_pending frames wait behind the
-//   one being processed; a newer frame pushes out the oldest waiting one, which is
-//   counted as dropped (Basalt's "realtime" policy: stale frames are worthless).
+//   one being processed in a drop-oldest queue (common/bounded_queue.h); a newer
+//   frame pushes out the oldest waiting one, which is counted as dropped.
 // - The detector is called by the worker thread only (by Submit's caller in
 //   sequential mode), one frame at a time. The image passed to Submit is shared,
 //   not copied: its pixels must not be written afterwards.
@@ -26,7 +26,6 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
-#include <deque>
 #include <exception>
 #include <map>
 #include <memory>
@@ -36,6 +35,7 @@
 #include <thread>
 #include <vector>
 
+#include "sgslam/common/bounded_queue.h"
 #include "sgslam/detection/detector.h"
 
 namespace sgslam {
@@ -84,22 +84,27 @@ class DetectionWorker {
     Timestamp t;
     cv::Mat bgr;
   };
+  // A submitted frame's outcome: outstanding (queued or in progress) until it is
+  // done or dropped.
+  struct Slot {
+    bool outstanding = true;
+    std::optional<DetectionResult> result;
+  };
   void Run();
-  void Process(Job job);                           // runs Detect outside the lock, then stores the outcome
-  bool Outstanding(std::uint64_t frame_id) const;  // pending or in progress; needs mutex_
-  void KeepResultsBounded();                       // needs mutex_
+  void Process(Job job);                   // runs Detect outside the lock, then stores the outcome
+  void Dropped(std::uint64_t frame_id);    // needs mutex_
+  void KeepResultsBounded();               // needs mutex_
 
   const std::unique_ptr<Detector> detector_;
   const Options options_;
   const std::string description_;
-  mutable std::mutex mutex_;
-  std::condition_variable work_ready_, result_ready_;
-  std::deque<Job> pending_;
-  std::optional<std::uint64_t> in_progress_;
+  BoundedQueue<Job> pending_;  // drop-oldest
+  mutable std::mutex mutex_;   // guards what follows
+  std::condition_variable result_ready_;
   std::optional<std::uint64_t> last_submitted_;
   std::optional<std::uint64_t> last_waited_;
-  std::map<std::uint64_t, DetectionResult> results_;  // done, not yet waited for
-  std::exception_ptr error_;                          // first detector exception not yet rethrown
+  std::map<std::uint64_t, Slot> slots_;  // submitted frames not yet waited for
+  std::exception_ptr error_;             // first detector exception not yet rethrown
   bool shut_down_ = false;
   DetectionWorkerStats stats_;
   std::thread thread_;  // last: started after every other member exists

@@ -27,7 +27,7 @@ void FrameStream::ReadLoop() {
       item.error = std::current_exception();
     }
     const bool failed = item.error != nullptr;
-    if (!queue_.Push(std::move(item)) || failed) break;
+    if (!queue_.Push(std::move(item)).accepted || failed) break;
   }
   queue_.Shutdown();  // end of stream: the consumer drains what is queued
 }

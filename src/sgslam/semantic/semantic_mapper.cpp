@@ -249,6 +249,7 @@ void SemanticMapper::ProcessKeyFrame(const SemanticInput& input, const std::vect
   stage.Restart();
   ObserveObjects(input, T_w_c);
   ms.objects = stage.ElapsedMs();
+  if (publishing_) Publish(clouds_.back());
 
   std::lock_guard lock(mutex_);
   ++stats_.keyframes;
@@ -481,6 +482,23 @@ std::vector<SemanticMapper::KeyFramePoints> SemanticMapper::KeyFrameClouds() con
 bool SemanticMapper::Exported(const Eigen::Vector3d& p_w) const {
   // A voxel that later views saw through held something that moved away.
   return !(config_.free_space_filter && octomap_.IsFree(p_w));
+}
+
+void SemanticMapper::Publish(const KeyFrameCloud& cloud) {
+  auto points = std::make_shared<const std::vector<ColoredPoint>>(cloud.points_c);
+  std::vector<ObjectEstimate> objects;
+  {
+    std::shared_lock lock(map_.mutex());
+    objects = objects_.Estimate([](const KeyFrame& kf) { return kf.PlacedT_c_w().Inverse(); });
+  }
+  std::lock_guard lock(published_mutex_);
+  published_.clouds.emplace_back(cloud.keyframe, std::move(points));
+  published_.objects = std::move(objects);
+}
+
+SemanticMapper::Published SemanticMapper::published() const {
+  std::lock_guard lock(published_mutex_);
+  return published_;
 }
 
 std::vector<ObjectEstimate> SemanticMapper::ExportObjects(const SE3& T_out_w) const {

@@ -15,12 +15,16 @@
 // in, or Finish(). The worker takes Map::mutex() shared only to read poses,
 // never while holding its own mutex. Finish() drains the queue and joins; the
 // export functions are called after Finish(), under the caller's shared map lock.
+// The keyframe queue is a drop-oldest queue like common/bounded_queue.h's, but
+// kept under the mapper's own mutex: its front waits for the frames after it (the
+// box window), and a pending OctoMap request is served first.
 #pragma once
 
 #include <condition_variable>
 #include <deque>
 #include <filesystem>
 #include <memory>
+#include <utility>
 #include <mutex>
 #include <optional>
 #include <thread>
@@ -81,6 +85,16 @@ class SemanticMapper {
   void RequestOctoMap(const std::filesystem::path& path);
   std::size_t octomaps_written() const;
   bool has_keyframe_detector() const { return has_keyframe_detector_; }
+
+  // For observers (system/snapshot.h): once enabled (before the first Submit), each
+  // keyframe's cloud and the objects estimated after it are published; Published()
+  // copies them (shared pointers) from any thread.
+  void EnablePublishing() { publishing_ = true; }
+  struct Published {
+    std::vector<std::pair<std::shared_ptr<KeyFrame>, std::shared_ptr<const std::vector<ColoredPoint>>>> clouds;
+    std::vector<ObjectEstimate> objects;  // world frame
+  };
+  Published published() const;
 
   // After Finish(), under the map's shared lock.
   void ExportCloud(std::vector<Eigen::Vector3d>& points, std::vector<Rgb>& colours);
@@ -156,6 +170,11 @@ class SemanticMapper {
   std::vector<KeyFrameCloud> clouds_;
   OctoMapBuilder octomap_;
   ObjectDatabase objects_;
+
+  bool publishing_ = false;
+  void Publish(const KeyFrameCloud& cloud);  // the worker (or the only thread)
+  mutable std::mutex published_mutex_;       // guards published_; never held with mutex_ or the map's
+  Published published_;
 
   mutable std::mutex mutex_;  // guards queue_, frames_, last_frame_id_, stats_, stop_, octomap_request_
   std::condition_variable wake_;

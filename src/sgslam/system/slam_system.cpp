@@ -149,6 +149,7 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
     semantic_->AddFrame(frame.id, frame.T_c_w, tracked ? frame.features->detections : kNone, images.depth);
   }
   report.total_ms = total.ElapsedMs();
+  if (snapshots_) PublishFrame(frame, images, report);
   return report;
 }
 
@@ -297,6 +298,57 @@ void SlamSystem::ExportSemantic(std::vector<Eigen::Vector3d>& cloud, std::vector
   std::shared_lock lock(map_.mutex());
   semantic_->ExportCloud(cloud, colours);
   objects = semantic_->ExportObjects(T_out_map);
+}
+
+void SlamSystem::EnableSnapshots() {
+  snapshots_ = true;
+  if (semantic_) semantic_->EnablePublishing();
+}
+
+void SlamSystem::PublishFrame(const Frame& frame, const RgbdImages& images, const FrameReport& report) {
+  auto s = std::make_shared<FrameSnapshot>();
+  s->index = report.index;
+  s->t = report.t;
+  s->state = report.state;
+  if (report.state == TrackState::kOk) s->T_w_c = frame.T_c_w.Inverse();
+  s->bgr = images.bgr;
+  s->keypoints = report.keypoints;
+  s->labels.resize(frame.size(), FrameSnapshot::kKept);
+  const std::vector<std::uint8_t>& unjudged = frame.features->unjudged;
+  for (std::size_t i = 0; i < frame.size(); ++i) {
+    if (frame.rejected[i]) {
+      s->labels[i] = FrameSnapshot::kRejected;
+    } else if (i < unjudged.size() && unjudged[i]) {
+      s->labels[i] = FrameSnapshot::kUnjudged;
+    }
+  }
+  s->detections = frame.features->detections;
+  s->keyframe = report.keyframe;
+  s->frame_ms = report.total_ms;
+  std::lock_guard lock(frame_snapshot_mutex_);
+  latest_frame_ = std::move(s);
+}
+
+std::shared_ptr<const FrameSnapshot> SlamSystem::LatestFrame() const {
+  std::lock_guard lock(frame_snapshot_mutex_);
+  return latest_frame_;
+}
+
+MapSnapshot SlamSystem::SnapshotMap() const {
+  MapSnapshot out;
+  SemanticMapper::Published semantic;
+  if (semantic_ && snapshots_) semantic = semantic_->published();  // before the map lock: never both held
+  out.objects = std::move(semantic.objects);
+  std::shared_lock lock(map_.mutex());
+  for (const auto& [id, kf] : map_.keyframes()) out.keyframes.push_back({id, kf->t, kf->T_w_c()});
+  out.points.reserve(map_.map_points().size());
+  for (const auto& [id, p] : map_.map_points()) {
+    if (!p->bad()) out.points.push_back(p->position());
+  }
+  for (auto& [kf, points] : semantic.clouds) {
+    out.cloud.push_back({kf->id, kf->PlacedT_c_w().Inverse(), std::move(points)});
+  }
+  return out;
 }
 
 std::vector<MappingStats> SlamSystem::mapping_stats() const {

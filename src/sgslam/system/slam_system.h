@@ -22,6 +22,7 @@
 #include "sgslam/mapping/local_mapper.h"
 #include "sgslam/semantic/semantic_mapper.h"
 #include "sgslam/system/dynamic_stage.h"
+#include "sgslam/system/snapshot.h"
 #include "sgslam/tracking/tracker.h"
 
 namespace sgslam {
@@ -85,6 +86,13 @@ class SlamSystem {
   // T_out_map: the frame objects are expressed (and boxed) in; cloud: map frame.
   void ExportSemantic(std::vector<Eigen::Vector3d>& cloud, std::vector<Rgb>& colours,
                       std::vector<ObjectEstimate>& objects, const SE3& T_out_map = SE3()) const;
+  // Snapshots for observers (a viewer, a ROS node; system/snapshot.h). Enable before
+  // the first Process(); LatestFrame() (null before the first frame) and
+  // SnapshotMap() may then be called from any thread. Off, nothing is copied.
+  void EnableSnapshots();
+  std::shared_ptr<const FrameSnapshot> LatestFrame() const;
+  MapSnapshot SnapshotMap() const;
+
   std::string DescribeDetector() const {
     std::string s = dynamic_.DescribeDetector();
     if (semantic_ && semantic_->has_keyframe_detector()) s += "; keyframes also through " + config_.semantic.keyframe_model + " for the map";
@@ -99,6 +107,7 @@ class SlamSystem {
   void RecordPoses(const Frame& frame, const TrackResult& result);
   void HandOverKeyFrames(const Frame& frame, const TrackResult& result, const RgbdImages& images,
                          FrameReport& report);
+  void PublishFrame(const Frame& frame, const RgbdImages& images, const FrameReport& report);
   void MappingLoop();
   void Stop(bool final_ba);
   void ToSemantic(SemanticInput item);
@@ -136,6 +145,9 @@ class SlamSystem {
   std::optional<MappingStats> final_ba_;     // set by Finish() when mapping.final_ba_iterations > 0
   std::thread mapping_thread_;
   bool finished_ = false;
+  bool snapshots_ = false;
+  mutable std::mutex frame_snapshot_mutex_;  // guards latest_frame_
+  std::shared_ptr<const FrameSnapshot> latest_frame_;
 };
 
 }  // namespace sgslam

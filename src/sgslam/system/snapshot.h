@@ -1,0 +1,61 @@
+// What a live viewer or a ROS node reads of a running system (architecture.md:
+// "snapshots the system publishes"): immutable copies, so that a reader never
+// locks the map nor slows tracking down. SlamSystem::EnableSnapshots() turns the
+// publishing on; LatestFrame() and SnapshotMap() may then be called from any thread.
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+#include <opencv2/core.hpp>
+
+#include "sgslam/common/se3.h"
+#include "sgslam/common/time.h"
+#include "sgslam/detection/detection.h"
+#include "sgslam/semantic/cloud.h"
+#include "sgslam/semantic/objects.h"
+#include "sgslam/tracking/tracker.h"
+
+namespace sgslam {
+
+// The frame tracking finished last, with what the rejection made of it.
+struct FrameSnapshot {
+  enum Label : std::uint8_t { kKept = 0, kRejected = 1, kUnjudged = 2 };  // kUnjudged: kept without a test
+
+  std::size_t index = 0;  // in the sequence
+  Timestamp t = 0;
+  TrackState state = TrackState::kNotInitialized;
+  std::optional<SE3> T_w_c;             // when tracked
+  cv::Mat bgr;                          // the colour image (shared, never written)
+  std::vector<cv::Point2f> keypoints;   // px, raw (distorted) positions
+  std::vector<std::uint8_t> labels;     // per keypoint, Label
+  std::vector<Detection> detections;    // this frame's boxes, then those carried over missed detections
+  bool keyframe = false;                // a keyframe was made of it
+  double frame_ms = 0;                  // the frame's time on the tracking thread
+};
+
+struct KeyFramePose {
+  std::uint64_t id = 0;
+  Timestamp t = 0;
+  SE3 T_w_c;
+};
+
+// One keyframe's part of the static dense cloud, in its camera frame, placed with
+// the keyframe's pose at the time of the snapshot.
+struct CloudPiece {
+  std::uint64_t keyframe_id = 0;
+  SE3 T_w_c;
+  std::shared_ptr<const std::vector<ColoredPoint>> points_c;
+};
+
+struct MapSnapshot {
+  std::vector<KeyFramePose> keyframes;
+  std::vector<Eigen::Vector3d> points;  // m, world: the sparse map points
+  std::vector<CloudPiece> cloud;        // the semantic thread's keyframes so far (empty without it)
+  std::vector<ObjectEstimate> objects;  // as of the semantic thread's last keyframe, world frame
+};
+
+}  // namespace sgslam
