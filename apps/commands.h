@@ -18,6 +18,7 @@ Action AddRunCommand(CLI::App& root);
 Action AddEvalCommand(CLI::App& root);
 Action AddSynthCommand(CLI::App& root);
 Action AddDemoCommand(CLI::App& root);
+Action AddConfigCommand(CLI::App& root);
 
 // Exit statuses shared by every subcommand.
 constexpr int kExitOk = 0;

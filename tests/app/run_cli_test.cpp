@@ -173,6 +173,8 @@ TEST(RunCommand, BrokenConfigValuesNameKeyAndFile) {
   ExpectFailure(args, 1, {"bad.yaml", "camera.fx = -5: must be > 0"});
   test::WriteText(tmp / "bad.yaml", "camera:\n  fx: fast\n");
   ExpectFailure(args, 1, {"bad.yaml:2", "camera.fx must be a number"});
+  test::WriteText(tmp / "bad.yaml", "orb:\n  featurs: 900\n");
+  ExpectFailure(args, 1, {"bad.yaml:2", "unknown key 'orb.featurs'", "did you mean 'features'"});
   args.back() = (tmp / "nope.yaml").string();
   ExpectFailure(args, 1, {"config file not found", "nope.yaml"});
 }

@@ -35,12 +35,29 @@ TEST(Config, LoadsValuesAndKeepsTheRest) {
   EXPECT_DOUBLE_EQ(c.camera.fy, CameraConfig{}.fy);
 }
 
-TEST(Config, UnknownKeysAreNotFatal) {
+// A misspelt key would otherwise run with the default silently: every unknown key
+// and section is listed, with its line and the nearest known name.
+TEST(Config, UnknownKeysAreErrorsWithTheirLineAndTheNearestName) {
   TempDir tmp;
-  WriteText(tmp / "c.yaml", "camera:\n  fxx: 1\nnot_a_section:\n  a: 1\n");
+  WriteText(tmp / "c.yaml", "camera:\n  fxx: 1\norb:\n  featurs: 900\nnot_a_section:\n  a: 1\n");
+  Config c;
+  const std::string e = ErrorOf([&] { LoadConfigFile(tmp / "c.yaml", c); });
+  EXPECT_NE(e.find("c.yaml:2: unknown key 'camera.fxx' (did you mean 'fx'?)"), std::string::npos) << e;
+  EXPECT_NE(e.find("c.yaml:4: unknown key 'orb.featurs' (did you mean 'features'?)"), std::string::npos) << e;
+  EXPECT_NE(e.find("c.yaml:5: unknown section 'not_a_section'"), std::string::npos) << e;
+  EXPECT_NE(e.find("unknown_keys: warn"), std::string::npos) << "says how to ignore them: " << e;
+}
+
+TEST(Config, AFileMayAskForWarningsInstead) {
+  TempDir tmp;
+  WriteText(tmp / "c.yaml", "unknown_keys: warn\ncamera:\n  fxx: 1\n  fy: 400\nnot_a_section:\n  a: 1\n");
   Config c;
   EXPECT_NO_THROW(LoadConfigFile(tmp / "c.yaml", c));
   EXPECT_DOUBLE_EQ(c.camera.fx, CameraConfig{}.fx);
+  EXPECT_DOUBLE_EQ(c.camera.fy, 400);
+  WriteText(tmp / "d.yaml", "unknown_keys: maybe\n");
+  EXPECT_NE(ErrorOf([&] { LoadConfigFile(tmp / "d.yaml", c); }).find("unknown_keys must be error or warn"),
+            std::string::npos);
 }
 
 TEST(Config, TypeErrorsNameFileLineAndKey) {

@@ -30,9 +30,9 @@ std::optional<CameraConfig> CameraPreset(const std::string& name) {
   // calibration for fr3, whose images are already undistorted).
   if (name == "tum_fr1") {
     CameraConfig c = Make(517.306408, 516.469215, 318.643040, 255.313989, 0.262383, -0.953104, -0.005358, 0.002628, 1.163314);
-    // The Kinect's colour camera has a rolling shutter. 0.03 s, nearly a frame time,
-    // gave the lowest error on fr1_rpy among 0.02-0.04 s (README, "Rolling shutter").
-    // fr2 and fr3 are left at 0: no data here to measure them on.
+    // The Kinect's colour camera has a rolling shutter whose readout takes nearly a
+    // frame time (docs/rolling-shutter.md). fr2 and fr3 are left at 0: no data here
+    // to measure them on.
     c.readout = 0.03;
     return c;
   }

@@ -1,10 +1,7 @@
 // Rolling shutter of the colour camera. The Kinect v1 colour sensor (TUM RGB-D)
 // exposes its rows one after the other over about one frame time, so in a fast
 // turn the top and bottom of one image see the scene from cameras several
-// pixels of rotation apart: dyn_dev's top rows showed 16-24 px reprojection
-// residuals in the turns, and the core tracker's error on the first 300 frames
-// of fr1_rpy fell from 0.030 to 0.008 m once keypoints were corrected with the
-// true angular velocity (README, "Rolling shutter").
+// pixels of rotation apart (docs/rolling-shutter.md).
 //
 // Model: row v of the raw (distorted) image is exposed at t + (v / height - 1/2)
 // * readout, t the frame time, taken as the middle row's. Turning at angular

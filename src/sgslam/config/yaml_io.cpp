@@ -3,11 +3,13 @@
 #include <spdlog/spdlog.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <charconv>
 #include <map>
 #include <set>
 #include <sstream>
 #include <type_traits>
+#include <vector>
 
 #include "sgslam/common/error.h"
 
@@ -71,6 +73,36 @@ bool ConfigFileHasSection(const fs::path& file, const std::string& name) {
   }
 }
 
+namespace {
+
+std::size_t EditDistance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t above = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] != b[j - 1] ? 1 : 0)});
+      diagonal = above;
+    }
+  }
+  return row[b.size()];
+}
+
+// " (did you mean 'x'?)" for the closest of `known` within a third of the name's
+// length (a typo, not another word); empty otherwise.
+std::string Suggestion(const std::string& name, const std::set<std::string>& known) {
+  std::string best;
+  std::size_t best_distance = std::max<std::size_t>(2, name.size() / 3) + 1;
+  for (const std::string& k : known) {
+    if (const std::size_t d = EditDistance(name, k); d < best_distance) best = k, best_distance = d;
+  }
+  return best.empty() ? "" : " (did you mean '" + best + "'?)";
+}
+
+}  // namespace
+
 void LoadConfigFile(const fs::path& file, Config& config) {
   std::error_code ec;
   if (!fs::is_regular_file(file, ec)) throw ConfigError("config file not found: " + file.string());
@@ -83,6 +115,18 @@ void LoadConfigFile(const fs::path& file, Config& config) {
   if (root.IsNull()) return;  // an empty file changes nothing
   if (!root.IsMap()) throw ConfigError(file.string() + ": the top level must be a map of sections");
 
+  // A file may ask for its unknown keys to be warned about instead (one written
+  // for another version of sgslam, say): `unknown_keys: warn` at its top level.
+  bool strict = true;
+  if (const YAML::Node policy = root[kUnknownKeysDirective]) {
+    std::string value;
+    ReadValue(file, kUnknownKeysDirective, policy, value);
+    if (value != "error" && value != "warn") {
+      throw ConfigError(Where(file, policy) + ": " + kUnknownKeysDirective + " must be error or warn, got '" + value + "'");
+    }
+    strict = value == "error";
+  }
+  std::vector<std::string> unknown;
   std::set<std::string> known_sections;
   config.VisitSections([&](const char* name, auto& section) {
     known_sections.insert(name);
@@ -97,15 +141,58 @@ void LoadConfigFile(const fs::path& file, Config& config) {
     for (const auto& kv : node) {
       const std::string key = kv.first.Scalar();
       if (!known_keys.count(key)) {
-        spdlog::warn("{}: unknown key '{}.{}' ignored", Where(file, kv.first), name, key);
+        unknown.push_back(Where(file, kv.first) + ": unknown key '" + name + "." + key + "'" +
+                          Suggestion(key, known_keys));
       }
     }
   });
   for (const auto& kv : root) {
     const std::string name = kv.first.Scalar();
-    if (!known_sections.count(name)) spdlog::warn("{}: unknown section '{}' ignored", Where(file, kv.first), name);
+    if (!known_sections.count(name) && name != kUnknownKeysDirective) {
+      unknown.push_back(Where(file, kv.first) + ": unknown section '" + name + "'" + Suggestion(name, known_sections));
+    }
   }
+  if (unknown.empty()) return;
+  if (!strict) {
+    for (const std::string& u : unknown) spdlog::warn("{} ignored", u);
+    return;
+  }
+  std::string message = "unknown configuration keys (docs/configuration.md lists them all; put '" +
+                        std::string(kUnknownKeysDirective) + ": warn' at the top of the file to ignore them):";
+  for (const std::string& u : unknown) message += "\n  " + u;
+  throw ConfigError(message);
 }
+
+template <class T>
+std::string ConfigValueText(const T& value) {
+  std::ostringstream out;
+  if constexpr (std::is_same_v<T, std::map<std::string, double>>) {
+    for (const auto& [entry, number] : value) {
+      YAML::Emitter quoted;
+      quoted << YAML::DoubleQuoted << entry;
+      out << (out.tellp() > 0 ? ", " : "{") << quoted.c_str() << ": " << number;
+    }
+    out << "}";
+  } else if constexpr (std::is_same_v<T, std::string>) {
+    YAML::Emitter quoted;
+    quoted << YAML::DoubleQuoted << value;
+    out << quoted.c_str();
+  } else if constexpr (std::is_same_v<T, bool>) {
+    out << (value ? "true" : "false");
+  } else if constexpr (std::is_floating_point_v<T>) {
+    char buf[64];  // shortest text that reads back to the same double
+    const auto r = std::to_chars(buf, buf + sizeof buf, value);
+    out << std::string_view(buf, static_cast<std::size_t>(r.ptr - buf));
+  } else {
+    out << value;
+  }
+  return out.str();
+}
+template std::string ConfigValueText(const int&);
+template std::string ConfigValueText(const double&);
+template std::string ConfigValueText(const bool&);
+template std::string ConfigValueText(const std::string&);
+template std::string ConfigValueText(const std::map<std::string, double>&);
 
 std::string ConfigToYaml(const Config& config) {
   std::ostringstream out;
@@ -121,21 +208,9 @@ std::string ConfigToYaml(const Config& config) {
           quoted << YAML::DoubleQuoted << entry;
           out << "    " << quoted.c_str() << ": " << number << "\n";
         }
-        return;
-      } else if constexpr (std::is_same_v<T, std::string>) {
-        YAML::Emitter quoted;
-        quoted << YAML::DoubleQuoted << value;
-        out << quoted.c_str();
-      } else if constexpr (std::is_same_v<T, bool>) {
-        out << (value ? "true" : "false");
-      } else if constexpr (std::is_floating_point_v<T>) {
-        char buf[64];  // shortest text that reads back to the same double
-        const auto r = std::to_chars(buf, buf + sizeof buf, value);
-        out << std::string_view(buf, static_cast<std::size_t>(r.ptr - buf));
       } else {
-        out << value;
+        out << ConfigValueText(value) << "  # " << unit << "\n";
       }
-      out << "  # " << unit << "\n";
     });
   });
   return out.str();

@@ -8,10 +8,15 @@
 
 namespace sgslam {
 
+// The top-level entry of a config file that turns its unknown keys from errors into
+// warnings: `unknown_keys: warn` (default: error).
+inline constexpr const char* kUnknownKeysDirective = "unknown_keys";
+
 // Applies the values of a YAML file onto `config` (keys the file omits keep their
-// values). Unknown sections and keys are warned about; a value of the wrong type
-// throws ConfigError naming the file, line and key. A missing or unparsable file
-// throws ConfigError naming the file.
+// values). Unknown sections and keys throw ConfigError listing each with its file
+// and line (and the nearest known name), unless the file says `unknown_keys: warn`;
+// a value of the wrong type throws ConfigError naming the file, line and key. A
+// missing or unparsable file throws ConfigError naming the file.
 void LoadConfigFile(const std::filesystem::path& file, Config& config);
 
 // Whether a config file has a top-level section `name` (false when it cannot be
@@ -20,5 +25,10 @@ bool ConfigFileHasSection(const std::filesystem::path& file, const std::string& 
 
 // The effective configuration as YAML, each key with its unit as a comment.
 std::string ConfigToYaml(const Config& config);
+
+// A value as it appears in YAML (int, double, bool, string, or a name: number table
+// in flow style); doubles in the shortest text that reads back to the same value.
+template <class T>
+std::string ConfigValueText(const T& value);
 
 }  // namespace sgslam

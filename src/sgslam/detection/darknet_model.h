@@ -1,8 +1,8 @@
 // Locating and loading a Darknet YOLO model (<model>.cfg, <model>.weights and
 // coco.names in one folder) with OpenCV dnn, with errors that name the file at
 // fault. OpenCV 4.6 silently accepts a truncated weights file or the weights of
-// another cfg (measured here: both load and run), so the weights size is checked
-// against the parameter count of the parsed network.
+// another cfg (both load and run), so the weights size is checked against the
+// parameter count of the parsed network.
 #pragma once
 
 #include <filesystem>

@@ -2,7 +2,7 @@
 // OpenCV dnn, CPU only. The paper ran MobileNetV3-SSDLite on NCNN (Sec. III-B) and
 // notes that other detectors fit "depending on the hardware"; Yolo-Fastest is the
 // CPU detector NGD-SLAM uses, and its COCO classes cover the VOC ones the paper
-// relies on (shared/models/README.md).
+// relies on (models/yolo-fastest-1.1-coco/README.md).
 //
 // Thread budget. cv::setNumThreads is process-wide: it sets how many threads every
 // OpenCV parallel_for_ of the process may use, tracking's included. The constructor
@@ -10,9 +10,8 @@
 // thread alone and tracking's OpenCV calls (pyramids, blur, LK flow, RANSAC) run
 // on the tracking thread alone: on a 2-core machine each thread gets one core and
 // neither waits for the other's thread pool. With OpenCV's default (all cores),
-// inference is no faster here (bench/detector_bench.cpp, 640x480, shared 2-core
-// machine: 10 ms CPU a frame for Yolo-Fastest 1.1, 20 ms for XL, either way) and,
-// because OpenCV runs a parallel_for_ started while another one is active (in any
+// inference is no faster on two cores (bench/detector_bench.cpp) and, because
+// OpenCV runs a parallel_for_ started while another one is active (in any
 // thread) serially, tracking's calls would lose their parallelism anyway whenever
 // the detector is busy, which in this design is most of each frame.
 //

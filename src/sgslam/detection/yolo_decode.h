@@ -2,8 +2,7 @@
 // In OpenCV 4.6 each output row is (cx, cy, w, h, objectness, 80 class scores) with
 // the box relative to the network input and each class score already multiplied by
 // the objectness (and zeroed at or below the layer's thresh), so the class column
-// is the detection score itself. Checked on person.jpg: objectness 0.989, person
-// column 0.986.
+// is the detection score itself.
 #pragma once
 
 #include <opencv2/core/mat.hpp>

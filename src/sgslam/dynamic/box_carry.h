@@ -1,17 +1,11 @@
 // Boxes of moving objects carried over the frames where the detector misses them.
-// A small CPU detector loses a person it found a frame earlier in many frames: on
-// dyn_dev Yolo-Fastest covers a visible walker (at least 3000 px) in 185 of 432
-// person-frames, while 282 of them had a hit at most 3 frames before (5 frames:
-// 312). Without a box those keypoints face only the epipolar test, and the semantic
-// map takes their depth in. So a dynamic-class box that finds no detection of its
+// A small CPU detector often loses a person it found a few frames earlier; without
+// a box those keypoints face only the epipolar test, and the semantic map takes
+// their depth in. So a dynamic-class box that finds no detection of its
 // class (IoU >= min_iou) in the next frames is kept for up to `frames` frames,
 // shifted by the median backward flow of the keypoints that lie in it, then dropped.
 // Only boxes that showed motion are carried (Remember): a detector's false
-// positives and people standing still then stay where they were found. On dyn_dev,
-// with motion taken as at least 20 % of a box's keypoints beyond eps_std without
-// the weight (or flagged by the RGB-D check), 250 of 291 person boxes on walkers
-// showed motion against 10 of 71 other person boxes (the real person sitting at the
-// back, the box or a table taken for a person).
+// positives and people standing still then stay where they were found.
 // Only dynamic classes (ClassTable::is_dynamic) are carried: a chair missed for a
 // frame is simply static there.
 // Thread safety: none; one instance per tracking thread.

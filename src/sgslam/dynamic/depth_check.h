@@ -6,15 +6,13 @@
 //   |z_pred - z_meas| > depth_tolerance + depth_tolerance_quadratic * z^2
 // (Kinect depth noise grows with z^2, Khoshelham & Elberink 2012; the smallest
 // error over the previous depths of a (2 depth_check_window + 1)^2 window and the
-// current 3x3), or when the
-// reprojection error (the smallest over that previous window) exceeds
-// reprojection_tolerance px, or reprojection_median_factor
-// times the frame's median reprojection error when that is larger (under fast
-// rotation a rolling shutter and an imprecise motion move every static point off
-// together, a mover stands out of that level). The second term is what
-// catches the degenerate preset: a walker moving sideways parallel to the camera
-// keeps its depth and stays on its epipolar line, but not where a static point
-// would reproject.
+// current 3x3), or when the reprojection error (the smallest over that previous
+// window) exceeds reprojection_tolerance px, or reprojection_median_factor times
+// the frame's median reprojection error when that is larger (under fast rotation a
+// rolling shutter and an imprecise motion move every static point off together, a
+// mover stands out of that level). The second term is what catches the degenerate
+// preset: a walker moving sideways parallel to the camera keeps its depth and
+// stays on its epipolar line, but not where a static point would reproject.
 //
 // Coordinates: depth images are sampled at the raw keypoint/flow positions (TUM
 // depth is registered to the colour image). The geometry uses undistorted pixels:

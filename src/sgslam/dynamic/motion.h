@@ -1,9 +1,9 @@
 // The camera motion between the previous and the current frame from the flow pairs
 // alone, for the RGB-D check (depth_check.h): the previous points are lifted with
 // the previous depth and a PnP RANSAC (3D-2D) finds T_cur_prev. Unlike the
-// tracker's constant-velocity prediction it follows the jerky hand-held motion of
-// fr1_rpy, and unlike F it is not degenerate under rotation, so a point moving
-// along its epipolar line (the paper's blind spot) no longer fits.
+// tracker's constant-velocity prediction it follows jerky hand-held motion, and
+// unlike F it is not degenerate under rotation, so a point moving along its
+// epipolar line (the paper's blind spot) does not fit it.
 //
 // Coordinates: depth is sampled at the raw (distorted) previous positions, as TUM
 // registers depth to the raw colour image; the geometry uses undistorted pixels.

@@ -22,8 +22,7 @@ std::vector<double> KeypointWeights(const std::vector<cv::KeyPoint>& keys, const
                                     const WeightFn& weight);
 
 // The same with depth: a detector box is a rectangle around an outline, and the
-// background it frames is static (on dyn_dev 17k of the 51k static keypoints that
-// sg lost were background inside person boxes, where Algorithm 1 asks d < eps / 5).
+// background it frames is static, yet Algorithm 1 line 6 would hold it to d < eps / w.
 // The object's depth is taken from the box's centre (the `object_percentile` of
 // the depths sampled on a grid over its middle half in x and 10-90 % in y: the
 // nearer part, which the object fills in front of what lies behind it); a keypoint

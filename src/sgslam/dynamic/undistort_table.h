@@ -1,9 +1,8 @@
 // Raw -> undistorted pixel lookup for the flow pairs. Camera::Undistort iterates
-// to convergence (~0.75 us a point here, 1.5 ms for a frame's 2 x 1000 pairs);
-// the map is smooth, so it is sampled once on a grid of `step` px and
-// interpolated bilinearly: with step 2 on the TUM fr1 lens the error stays below
-// 0.002 px (tests/dynamic/undistort_table_test.cpp) and building takes ~17 ms
-// once. Points outside the grid go to the exact function.
+// to convergence, too slow for every pair of every frame; the map is smooth, so it
+// is sampled once on a grid of `step` px and interpolated bilinearly (the error
+// bound is in tests/dynamic/undistort_table_test.cpp). Points outside the grid go
+// to the exact function.
 // Thread safety: const after construction.
 #pragma once
 

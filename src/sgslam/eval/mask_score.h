@@ -24,9 +24,9 @@ struct MaskScore {
   std::uint64_t static_rejected = 0;   // ... of them rejected (false positives)
   // Static keypoints within kOutlinePx of a moving pixel, and of them rejected. A
   // corner there is mostly made by the mover's silhouette against the background
-  // and moves with it (an occlusion corner, no fixed 3-D point): on dyn_dev 69 % of
-  // the static keypoints within 4 px of a mover are rejected, 9 % of those beyond
-  // 32 px. Reported apart so that the static loss can be read both ways.
+  // and moves with it (an occlusion corner, no fixed 3-D point), so the rejection
+  // often takes it for moving. Reported apart so that the static loss can be read
+  // both ways.
   std::uint64_t static_near = 0;
   std::uint64_t static_near_rejected = 0;
   static constexpr double kOutlinePx = 8.0;

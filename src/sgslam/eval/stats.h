@@ -18,7 +18,8 @@ struct ErrorStats {
   std::size_t count = 0;
 };
 
-// All fields of ErrorStats; the median is sgslam::Median (numpy's). Throws std::invalid_argument for an empty sequence.
+// All fields of ErrorStats; the median is sgslam::Median (numpy's). Throws
+// std::invalid_argument for an empty sequence.
 ErrorStats ComputeStats(const std::vector<double>& values);
 
 }  // namespace sgslam::eval

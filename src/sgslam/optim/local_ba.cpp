@@ -19,9 +19,9 @@ namespace {
 using PoseParams = std::array<double, kPoseAmbientSize>;
 
 // Up to this many free keyframes the reduced camera system (6n x 6n) is
-// factorised densely: no symbolic analysis, and faster than a sparse solver
-// at local-BA sizes (measured: see the module report). Larger problems use a
-// sparse Schur complement with whatever sparse backend this Ceres build has.
+// factorised densely: no symbolic analysis, and faster than a sparse solver at
+// local-BA sizes. Larger problems use a sparse Schur complement with whatever
+// sparse backend this Ceres build has.
 constexpr int kDenseSchurMaxFreeKeyframes = 60;
 
 void ChooseLinearSolver(int free_keyframes, ceres::Solver::Options& o) {

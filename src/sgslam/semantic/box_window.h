@@ -1,15 +1,13 @@
 // The dynamic-object boxes of the frames around a keyframe, moved into its image.
-// A CPU detector misses a person in some frames and finds it in the next (on
-// dyn_dev most of the cloud points left on people came from keyframes whose
-// detector missed one of the two); the frames within `box_window` of a keyframe
-// lend it their boxes for the static-map mask (paper Sec. III-E leaves dynamic
-// objects out of the cloud and the OctoMap). Tracking is untouched: it uses its
-// own frame's boxes only (Algorithm 1).
+// A CPU detector misses a person in some frames and finds it in the next; the
+// frames within `box_window` of a keyframe lend it their boxes for the static-map
+// mask (paper Sec. III-E leaves dynamic objects out of the cloud and the OctoMap).
+// Tracking is untouched: it uses its own frame's boxes only (Algorithm 1).
 //
 // A box is carried to the keyframe as the plane at its median depth: its corners
 // are back-projected there with the frame's tracked pose and projected with the
-// keyframe's, and it grows by box_window_growth px per frame of distance for the
-// object's own motion.
+// keyframe's, and it grows by a few px per frame of distance for the object's own
+// motion.
 #pragma once
 
 #include <cstdint>

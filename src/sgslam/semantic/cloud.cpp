@@ -56,11 +56,14 @@ PixelRays::PixelRays(const Camera& camera) : rays_(camera.height(), camera.width
 
 namespace {
 
+// A depth step: this much plus a term in depth^2 (Kinect noise grows with z^2).
+constexpr double kEdgeJump = 0.05;           // m
+constexpr double kEdgeJumpQuadratic = 0.02;  // 1/m
+
 // A pixel within `radius` of a depth step larger than `jump` (either side): the
 // eight pixels at that distance, holes ignored. Depth at an outline mixes the two
 // surfaces (flying pixels), and the outline of a mover is where its mask and its
-// depth disagree by a pixel or two: on dyn_dev 44 % of the cloud points left on
-// moving pixels were within 4 px of a mover's outline.
+// depth disagree by a pixel or two.
 bool OnDepthEdge(const cv::Mat& depth_raw, int u, int v, int radius, std::uint16_t d, double inv_factor,
                  double jump) {
   const int max_jump = static_cast<int>(jump / inv_factor);
@@ -97,7 +100,7 @@ std::vector<ColoredPoint> BackProject(const cv::Mat& bgr, const cv::Mat& depth_r
       const double z = d[u] * inv_factor;
       if (d[u] == 0 || z < config.depth_min || z > config.depth_max) continue;
       if (edge > 0 && OnDepthEdge(depth_raw, u, v, edge, d[u], inv_factor,
-                                  config.cloud_edge_jump + config.cloud_edge_jump_quadratic * z * z)) {
+                                  kEdgeJump + kEdgeJumpQuadratic * z * z)) {
         continue;
       }
       const cv::Vec2f& r = rays.at(u, v);

@@ -9,6 +9,18 @@ namespace sgslam {
 
 namespace {
 
+// Around a rejected keypoint, only pixels this close to its depth are masked.
+constexpr double kMotionDepthBand = 0.15;  // m
+// Moving segments: depth grid step, the depth step that still joins neighbours (plus
+// a term in depth^2), the rejected keypoints a segment needs (count and share), and
+// the size above which a segment is background (walls, floor).
+constexpr int kSegmentStep = 4;                 // px
+constexpr double kSegmentJump = 0.02;           // m
+constexpr double kSegmentJumpQuadratic = 0.02;  // 1/m
+constexpr int kSegmentMinVotes = 3;
+constexpr double kSegmentMinShare = 0.5;
+constexpr double kSegmentMaxArea = 0.5;  // share of the image
+
 int Find(std::vector<int>& parent, int i) {
   while (parent[i] != i) i = parent[i] = parent[parent[i]];
   return i;
@@ -20,7 +32,7 @@ int Find(std::vector<int>& parent, int i) {
 void MaskMovingSegments(const cv::Mat& depth_raw, double depth_factor, const std::vector<cv::KeyPoint>& keys,
                         const std::vector<std::uint8_t>& rejected, const std::vector<std::uint8_t>& unjudged,
                         const SemanticConfig& config, cv::Mat& mask, cv::Mat* also) {
-  const int step = config.motion_segment_step;
+  const int step = kSegmentStep;
   const int gw = (depth_raw.cols + step - 1) / step, gh = (depth_raw.rows + step - 1) / step;
   std::vector<float> z(static_cast<std::size_t>(gw) * gh);
   for (int gy = 0; gy < gh; ++gy)
@@ -32,7 +44,7 @@ void MaskMovingSegments(const cv::Mat& depth_raw, double depth_factor, const std
     const float za = z[a], zb = z[b];
     if (za <= 0 || zb <= 0) return;
     const double zm = std::min(za, zb);
-    if (std::abs(za - zb) > config.motion_segment_jump + config.motion_segment_jump_quadratic * zm * zm) return;
+    if (std::abs(za - zb) > kSegmentJump + kSegmentJumpQuadratic * zm * zm) return;
     parent[Find(parent, a)] = Find(parent, b);
   };
   for (int gy = 0; gy < gh; ++gy)
@@ -53,12 +65,12 @@ void MaskMovingSegments(const cv::Mat& depth_raw, double depth_factor, const std
     ++keys_in[root];
     votes[root] += rejected[k] ? 1 : 0;
   }
-  const double max_area = config.motion_segment_max_area * static_cast<double>(z.size());
+  const double max_area = kSegmentMaxArea * static_cast<double>(z.size());
   std::vector<std::uint8_t> moving(z.size(), 0);
   bool any = false;
   for (std::size_t r = 0; r < z.size(); ++r) {
-    if (votes[r] < config.motion_segment_min_votes || area[r] > max_area) continue;
-    if (votes[r] < config.motion_segment_min_share * keys_in[r]) continue;
+    if (votes[r] < kSegmentMinVotes || area[r] > max_area) continue;
+    if (votes[r] < kSegmentMinShare * keys_in[r]) continue;
     moving[r] = 1;
     any = true;
   }
@@ -83,7 +95,7 @@ void MaskAroundRejected(const cv::Mat& depth_raw, double depth_factor, const std
                         const std::vector<std::uint8_t>& rejected, const SemanticConfig& config, cv::Mat& mask) {
   const cv::Rect image(0, 0, depth_raw.cols, depth_raw.rows);
   const int radius = config.motion_radius;
-  const double band_raw = config.motion_depth_band * depth_factor;
+  const double band_raw = kMotionDepthBand * depth_factor;
   for (std::size_t i = 0; i < keys.size(); ++i) {
     if (!rejected[i]) continue;
     const int u = cvRound(keys[i].pt.x), v = cvRound(keys[i].pt.y);
@@ -127,7 +139,7 @@ cv::Mat DynamicPixelMask(const cv::Mat& depth_raw, double depth_factor, const st
     if (surface != nullptr) {
       // Only the object's surface: the pixels near the depth of the box's middle.
       const double z = BoxMedianDepth(depth_raw, depth_factor, d.box);
-      if (z > 0) MaskCarriedBoxes({CarriedBox{cv::Rect2f(r), z}}, depth_raw, depth_factor, config.seen_moving_band, *surface);
+      if (z > 0) MaskCarriedBoxes({CarriedBox{cv::Rect2f(r), z}}, depth_raw, depth_factor, kSeenMovingBand, *surface);
     }
   }
   if (rejected.size() != keys.size()) return mask;

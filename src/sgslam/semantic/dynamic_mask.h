@@ -4,9 +4,9 @@
 //    box_margin of its size on each side since detector boxes are loose;
 //  - around each keypoint that tracking rejected as dynamic outside those boxes
 //    (motion the detector missed, e.g. an unknown moving box), the pixels within
-//    motion_radius whose depth lies within motion_depth_band of the keypoint's:
+//    motion_radius whose depth lies within a band of the keypoint's:
 //    the moving surface near the keypoint, not the background behind it;
-//  - every smooth depth segment (of at most motion_segment_max_area of the image)
+//  - every smooth depth segment (of at most half the image)
 //    where enough keypoints, and most of its keypoints, were rejected: the whole
 //    surface of an object that moves as one. Keypoints kept without a geometric
 //    test (unjudged, one flag per key or empty) do not count there
@@ -22,9 +22,13 @@
 
 namespace sgslam {
 
+// m; of a dynamic box, the pixels this close to the depth of its middle are the
+// mover itself, for the seen-moving filter (semantic.seen_moving_ratio).
+inline constexpr double kSeenMovingBand = 0.2;
+
 // CV_8UC1, 255 = dynamic. keys: raw keypoint positions; rejected: one flag per key (or empty).
 // surface (optional): the same mask but with, of each dynamic box, only the pixels
-// within seen_moving_band m of the depth of its middle (BoxMedianDepth): where the
+// within kSeenMovingBand of the depth of its middle (BoxMedianDepth): where the
 // mover itself was, not the background its box frames.
 cv::Mat DynamicPixelMask(const cv::Mat& depth_raw, double depth_factor, const std::vector<Detection>& detections,
                          const ClassTable& classes, const std::vector<cv::KeyPoint>& keys,

@@ -11,6 +11,22 @@ namespace sgslam {
 
 namespace {
 
+// Depths further than this many MADs from an object's median are outliers.
+constexpr double kMadFactor = 3.0;
+// Association boxes are grown by this for the centre-inside test.
+constexpr double kMergeMargin = 0.1;  // m
+// Share of the samples cut off at each end of each axis of an object's extent: a
+// thin leg or a pot's base is a small share of the samples.
+constexpr double kExtentTrim = 0.01;
+// Background planes: the ring around the box they are fitted in (share of the box
+// size; wide enough to hold both walls of a corner), the distance counted as on a
+// plane (plus a term in depth^2: 2-3 sigma of Kinect noise), and the share of the
+// box's points above which a plane is the object's own face and stays.
+constexpr double kRing = 0.3;
+constexpr double kPlaneTolerance = 0.01;            // m
+constexpr double kPlaneToleranceQuadratic = 0.002;  // 1/m
+constexpr double kPlaneMaxShare = 0.8;
+
 double Volume(const Eigen::Vector3d& min, const Eigen::Vector3d& max) {
   const Eigen::Vector3d d = (max - min).cwiseMax(0.0);
   return d.x() * d.y() * d.z();
@@ -26,12 +42,12 @@ void RemoveBackgroundPlanes(const cv::Rect2f& b, const cv::Rect& full, const cv:
                             const PixelRays& rays, const SemanticConfig& config, double depth,
                             std::vector<Eigen::Vector3f>& points) {
   const cv::Rect image(0, 0, depth_raw.cols, depth_raw.rows);
-  const int mx = std::max(6, static_cast<int>(std::lround(b.width * config.object_ring)));
-  const int my = std::max(6, static_cast<int>(std::lround(b.height * config.object_ring)));
+  const int mx = std::max(6, static_cast<int>(std::lround(b.width * kRing)));
+  const int my = std::max(6, static_cast<int>(std::lround(b.height * kRing)));
   const cv::Rect outer = cv::Rect(full.x - mx, full.y - my, full.width + 2 * mx, full.height + 2 * my) & image;
   const int ring_area = outer.area() - full.area();
   if (ring_area <= 0) return;
-  const int step = std::max(1, static_cast<int>(std::sqrt(ring_area / (2.0 * config.object_max_points))));
+  const int step = std::max(1, static_cast<int>(std::sqrt(ring_area / (2.0 * kObjectMaxPoints))));
   std::vector<Eigen::Vector3f> ring;
   for (int v = outer.y; v < outer.y + outer.height; v += step) {
     const std::uint16_t* d = depth_raw.ptr<std::uint16_t>(v);
@@ -46,14 +62,14 @@ void RemoveBackgroundPlanes(const cv::Rect2f& b, const cv::Rect& full, const cv:
   PlaneFitOptions options;
   options.max_planes = config.object_background_planes;
   options.tolerance =
-      static_cast<float>(config.object_plane_tolerance + config.object_plane_tolerance_quadratic * depth * depth);
+      static_cast<float>(kPlaneTolerance + kPlaneToleranceQuadratic * depth * depth);
   for (const Plane& plane : FitPlanes(ring, options)) {
     std::vector<Eigen::Vector3f> kept;
     kept.reserve(points.size());
     for (const auto& p : points)
       if (!OnPlane(plane, p, options)) kept.push_back(p);
     const double removed = static_cast<double>(points.size() - kept.size());
-    if (removed > config.object_plane_max_share * static_cast<double>(points.size())) continue;
+    if (removed > kPlaneMaxShare * static_cast<double>(points.size())) continue;
     if (static_cast<int>(kept.size()) < config.object_min_points) continue;
     points.swap(kept);
   }
@@ -152,7 +168,7 @@ std::vector<double> ObjectDepths(const std::vector<Detection>& detections, const
     std::vector<cv::Point> pixels;
     std::vector<double> depths;
     SampleDepths(depth_raw, depth_factor, PixelBox(detections[i].box, config.object_box_shrink, image),
-                 config.object_max_points, config, pixels, depths);
+                 kObjectMaxPoints, config, pixels, depths);
     const std::vector<double> own = UncoveredDepths(pixels, depths, others, config.object_min_points);
     if (!own.empty()) out[i] = Median(own);
   }
@@ -180,7 +196,7 @@ std::optional<ObjectObservation> ObserveObject(const Detection& detection, const
   }
   std::vector<cv::Point> inner_pixels;
   std::vector<double> inner_depths;
-  SampleDepths(depth_raw, depth_factor, inner, config.object_max_points, config, inner_pixels, inner_depths);
+  SampleDepths(depth_raw, depth_factor, inner, kObjectMaxPoints, config, inner_pixels, inner_depths);
   if (static_cast<int>(inner_depths.size()) < config.object_min_points) return std::nullopt;
   // ... away from the other boxes where possible: a chair half behind a table
   // would take the table's depth.
@@ -192,10 +208,10 @@ std::optional<ObjectObservation> ObserveObject(const Detection& detection, const
   // further than a share of the box's width at that depth (see SemanticConfig).
   const int row = full.y + full.height / 2;
   const double width_m = std::abs(rays.at(full.x + full.width - 1, row)[0] - rays.at(full.x, row)[0]) * median;
-  const double band = std::max(config.object_mad_factor * mad, config.object_depth_band_width * width_m);
+  const double band = std::max(kMadFactor * mad, config.object_depth_band_width * width_m);
   std::vector<cv::Point> pixels;
   std::vector<double> depths;
-  SampleDepths(depth_raw, depth_factor, full, 2 * config.object_max_points, config, pixels, depths);
+  SampleDepths(depth_raw, depth_factor, full, 2 * kObjectMaxPoints, config, pixels, depths);
   std::vector<Eigen::Vector3f> points;
   for (std::size_t i = 0; i < depths.size(); ++i) {
     if (std::abs(depths[i] - median) > band) continue;
@@ -209,9 +225,9 @@ std::optional<ObjectObservation> ObserveObject(const Detection& detection, const
     points.emplace_back(r[0] * z, r[1] * z, z);
   }
   if (config.object_background_planes > 0) RemoveBackgroundPlanes(b, full, depth_raw, depth_factor, rays, config, median, points);
-  DropOutliers(config.object_mad_factor, points);
+  DropOutliers(kMadFactor, points);
   if (static_cast<int>(points.size()) < config.object_min_points) return std::nullopt;
-  Thin(config.object_max_points, points);
+  Thin(kObjectMaxPoints, points);
   ObjectObservation o;
   o.class_id = detection.class_id;
   o.class_name = detection.class_name;
@@ -228,8 +244,8 @@ ObjectDatabase::Box ObjectDatabase::BoxOf(const std::vector<Eigen::Vector3d>& po
     std::vector<double> c;
     c.reserve(points.size());
     for (const auto& p : points) c.push_back(p[a]);
-    b.min[a] = Percentile(c, config_.object_extent_trim);
-    b.max[a] = Percentile(c, 1.0 - config_.object_extent_trim);
+    b.min[a] = Percentile(c, kExtentTrim);
+    b.max[a] = Percentile(c, 1.0 - kExtentTrim);
   }
   return b;
 }
@@ -249,7 +265,7 @@ int ObjectDatabase::Add(ObjectObservation observation, const SE3& T_w_c) {
     const double iou = inter / std::max(Volume(box.min, box.max) + Volume(o.box.min, o.box.max) - inter, 1e-12);
     const Eigen::Vector3d o_centre = (o.box.min + o.box.max) / 2;
     // A partial first view gives a small box: a centre inside the other box counts too.
-    const Eigen::Vector3d m = Eigen::Vector3d::Constant(config_.object_merge_margin);
+    const Eigen::Vector3d m = Eigen::Vector3d::Constant(kMergeMargin);
     const bool nested = Inside(centre, o.box.min - m, o.box.max + m) || Inside(o_centre, box.min - m, box.max + m);
     const double score = iou + (nested ? 1.0 : 0.0);
     if ((iou > config_.object_merge_iou || nested) && score > best_score) {
@@ -285,8 +301,8 @@ std::vector<Eigen::Vector3d> ObjectDatabase::CarvedPoints(const Object& o, const
   for (std::size_t j = 0; j < n; ++j) T_c_w[j] = T_w_c[j].Inverse();
   std::vector<Eigen::Vector3d> all, kept;
   // Views cut by the image border shape the box only while no whole view exists:
-  // their segmentation lacks the background ring on the cut side and drags in floor
-  // or wall (objects preset seed 1: a table 0.27 m too wide with them, 0.02 without).
+  // their segmentation lacks the background ring on the cut side and drags in
+  // floor or wall.
   const bool drop_cut = Complete(o);
   for (std::size_t i = 0; i < n; ++i) {
     if (drop_cut && o.observations[i].cut) continue;
@@ -334,10 +350,7 @@ std::vector<ObjectEstimate> ObjectDatabase::Estimate(const KeyFramePoseFn& pose_
     e.centroid = (b.min + b.max) / 2;
     e.size = b.max - b.min;
     e.complete = Complete(o);
-    // An object never seen whole needs one view more: its views are weaker evidence
-    // (objects preset seeds 1-6: the one partial object from 2 views, a table seen
-    // at the image edge, came out 0.48 m off; the partial ones from 4 to 15 views
-    // were within 0.05 m).
+    // An object never seen whole needs one view more: its views are weaker evidence.
     e.exported = e.observations >= config_.object_min_observations + (e.complete ? 0 : 1);
     out.push_back(e);
   }

@@ -9,10 +9,11 @@
 // object. A box cut by the image edge is a partial view: it may start an object (a
 // sofa next to the camera may never be seen whole), but its samples shape the
 // object only until a whole view comes, and an object seen only cut is exported
-// with complete = false, from one view more than a whole one. Each object keeps its observations anchored to their keyframes: its
-// centroid and size are recomputed from them with the keyframes' current poses
-// (robust: 1st-99th percentile extents of the samples that the other views' boxes
-// agree with, see CarvedPoints), so bundle adjustment moves objects with the map.
+// with complete = false, from one view more than a whole one. Each object keeps
+// its observations anchored to their keyframes: its centroid and size are
+// recomputed from them with the keyframes' current poses (robust: 1st-99th
+// percentile extents of the samples that the other views' boxes agree with, see
+// CarvedPoints), so bundle adjustment moves objects with the map.
 //
 // Threading: not thread-safe; the semantic mapping thread owns the database.
 #pragma once
@@ -31,6 +32,9 @@
 #include "sgslam/semantic/semantic_config.h"
 
 namespace sgslam {
+
+// Depth samples kept per object observation (each is anchored to its keyframe).
+inline constexpr int kObjectMaxPoints = 400;
 
 class KeyFrame;
 
@@ -109,7 +113,7 @@ class ObjectDatabase {
     std::vector<ObjectObservation> observations;
     Box box;  // world frame, poses at insertion: association only
   };
-  // Percentile extents (object_extent_trim cut off at each end of each axis).
+  // Percentile extents (a trimmed share cut off at each end of each axis).
   Box BoxOf(const std::vector<Eigen::Vector3d>& points) const;
   // The object's samples in the world frame (T_w_c: per observation) that the other views agree with: a
   // sample is kept when, among the other observations whose image it projects

@@ -30,7 +30,7 @@ class OctoMapBuilder {
 
   // surface_c: static points in the camera frame, whose voxels are hits (with
   // their colour); rays_c: a sparser subset whose rays from the camera centre
-  // clear free space (casting every point's ray would cost ~10x more for the same
+  // clear free space (casting every point's ray would cost far more for the same
   // free space at this resolution). T_w_c: the camera pose.
   void Insert(const std::vector<ColoredPoint>& surface_c, const std::vector<ColoredPoint>& rays_c, const SE3& T_w_c);
   // Updates inner nodes and prunes; Write() and the queries need it after inserts.

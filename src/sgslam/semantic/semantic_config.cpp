@@ -1,5 +1,7 @@
 #include "sgslam/semantic/semantic_config.h"
 
+#include "sgslam/semantic/objects.h"
+
 namespace sgslam {
 
 void SemanticConfig::Validate(ConfigChecker& c) const {
@@ -11,30 +13,13 @@ void SemanticConfig::Validate(ConfigChecker& c) const {
   c.InRange("cloud_stride", cloud_stride, 1, 64);
   c.InRange("cloud_voxel", cloud_voxel, 0.001, 1.0);
   c.InRange("cloud_edge_radius", cloud_edge_radius, 0, 50);
-  c.InRange("cloud_edge_jump", cloud_edge_jump, 0.0, 10.0);
-  c.InRange("cloud_edge_jump_quadratic", cloud_edge_jump_quadratic, 0.0, 10.0);
   c.InRange("box_margin", box_margin, 0.0, 1.0);
   c.InRange("box_window", box_window, 0, 30);
-  c.InRange("box_window_growth", box_window_growth, 0.0, 100.0);
-  c.InRange("box_window_band", box_window_band, 0.0, 100.0);
-  c.InRange("box_window_max_area", box_window_max_area, 0.0, 1.0);
-  c.Check(box_window_history >= 2 * box_window + 1 && box_window_history <= 100000, "box_window_history",
-          box_window_history, "must be >= 2 * box_window + 1 and <= 100000");
   c.InRange("motion_radius", motion_radius, 0, 200);
-  c.InRange("motion_depth_band", motion_depth_band, 0.0, 10.0);
-  c.InRange("motion_segment_step", motion_segment_step, 1, 64);
-  c.InRange("motion_segment_jump", motion_segment_jump, 0.0, 10.0);
-  c.InRange("motion_segment_jump_quadratic", motion_segment_jump_quadratic, 0.0, 10.0);
-  c.InRange("motion_segment_min_votes", motion_segment_min_votes, 1, 100000);
-  c.InRange("motion_segment_min_share", motion_segment_min_share, 0.0, 1.0);
-  c.InRange("motion_segment_max_area", motion_segment_max_area, 0.0, 1.0);
   c.InRange("consistency_tolerance", consistency_tolerance, 0.0, 10.0);
-  c.InRange("consistency_tolerance_quadratic", consistency_tolerance_quadratic, 0.0, 10.0);
   c.InRange("consistency_min_votes", consistency_min_votes, 1, 1000);
-  c.InRange("consistency_pool", consistency_pool, 1, 64);
   c.InRange("min_view_support", min_view_support, 1, 1000);
   c.InRange("seen_moving_ratio", seen_moving_ratio, 0.0, 1000.0);
-  c.InRange("seen_moving_band", seen_moving_band, 0.0, 10.0);
   c.InRange("cloud_border", cloud_border, 0, 1000);
   c.InRange("octomap_resolution", octomap_resolution, 0.005, 1.0);
   c.Check(octomap_hit > 0.5 && octomap_hit < 1.0, "octomap_hit", octomap_hit, "must be in (0.5, 1)");
@@ -43,25 +28,14 @@ void SemanticConfig::Validate(ConfigChecker& c) const {
           "must be in (0, 0.5)");
   c.Check(octomap_clamp_max > 0.5 && octomap_clamp_max < 1.0, "octomap_clamp_max", octomap_clamp_max,
           "must be in (0.5, 1)");
-  c.InRange("octomap_stride", octomap_stride, 1, 64);
   c.Check(object_box_shrink > 0.0 && object_box_shrink <= 1.0, "object_box_shrink", object_box_shrink,
           "must be in (0, 1]");
-  c.InRange("object_mad_factor", object_mad_factor, 0.5, 100.0);
   c.InRange("object_depth_band_width", object_depth_band_width, 0.0, 10.0);
-  c.InRange("object_extent_trim", object_extent_trim, 0.0, 0.25);
-  c.InRange("object_min_points", object_min_points, 3, 100000);
-  c.Check(object_max_points >= object_min_points, "object_max_points", object_max_points,
-          "must be >= object_min_points");
+  c.InRange("object_min_points", object_min_points, 3, kObjectMaxPoints);
   c.InRange("object_min_score", object_min_score, 0.0, 1.0);
   c.InRange("object_merge_iou", object_merge_iou, 0.0, 1.0);
   c.InRange("object_min_observations", object_min_observations, 1, 1000);
-  c.InRange("object_merge_margin", object_merge_margin, 0.0, 10.0);
-  c.InRange("object_border", object_border, 0, 1000);
   c.InRange("object_background_planes", object_background_planes, 0, 5);
-  c.InRange("object_ring", object_ring, 0.0, 1.0);
-  c.InRange("object_plane_tolerance", object_plane_tolerance, 0.0, 1.0);
-  c.InRange("object_plane_tolerance_quadratic", object_plane_tolerance_quadratic, 0.0, 1.0);
-  c.InRange("object_plane_max_share", object_plane_max_share, 0.0, 1.0);
 }
 
 }  // namespace sgslam

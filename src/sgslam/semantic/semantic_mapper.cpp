@@ -22,6 +22,23 @@ namespace sgslam {
 
 namespace {
 
+// The box window (box_window.h): a carried box grows by this per frame of distance
+// (the mover's own motion), masks only pixels this close to its depth, and is not
+// carried at all when it covers more of the image.
+constexpr double kBoxWindowGrowth = 4.0;   // px per frame
+constexpr double kBoxWindowBand = 0.4;     // m
+constexpr double kBoxWindowMaxArea = 0.5;  // share of the image
+// Frames of boxes kept for a semantic thread that lags behind tracking.
+constexpr std::size_t kBoxHistory = 600;
+// The see-through test's margin grows with depth^2 (Kinect noise).
+constexpr double kConsistencyToleranceQuadratic = 0.01;  // 1/m
+// Keyframe depth is kept min-pooled by this factor for the export's multi-view tests.
+constexpr int kDepthPool = 4;  // px
+// Free-space rays are cast from every this-many-th pixel (hits: every cloud point).
+constexpr int kOctoMapRayStride = 16;  // px
+// A box this close to the image edge is a cut-off view of its object.
+constexpr int kObjectBorder = 3;  // px
+
 // Min over factor x factor blocks of the valid depths (m), 0 where a block has none:
 // the nearest surface, so a see-through test never fires at a depth edge. With a
 // mask, only the pixels it marks count.
@@ -106,7 +123,7 @@ void SemanticMapper::AddFrame(std::uint64_t frame_id, const SE3& T_c_w, const st
   {
     std::lock_guard lock(mutex_);
     frames_.push_back(std::move(f));
-    while (frames_.size() > static_cast<std::size_t>(config_.box_window_history)) frames_.pop_front();
+    while (frames_.size() > kBoxHistory) frames_.pop_front();
     last_frame_id_ = frame_id;
   }
   if (sequential_) {
@@ -134,8 +151,8 @@ std::vector<CarriedBox> SemanticMapper::CarriedBoxes(std::uint64_t keyframe_fram
                                                                              : keyframe_frame_id - f.frame_id);
     if (f.frame_id == keyframe_frame_id || distance > window || f.boxes.empty()) continue;
     const std::vector<CarriedBox> carried = CarryBoxes(f, own->T_c_w, *camera_, image,
-                                                       config_.box_window_growth * distance,
-                                                       config_.box_window_max_area);
+                                                       kBoxWindowGrowth * distance,
+                                                       kBoxWindowMaxArea);
     out.insert(out.end(), carried.begin(), carried.end());
   }
   return out;
@@ -241,7 +258,7 @@ void SemanticMapper::ProcessKeyFrame(const SemanticInput& input, const std::vect
   ms.cloud = stage.ElapsedMs();
   stage.Restart();
   std::vector<ColoredPoint> ray_points = BackProject(input.bgr, input.depth, camera_->config().depth_factor, mask,
-                                                     rays_, config_.octomap_stride, config_);
+                                                     rays_, kOctoMapRayStride, config_);
   octomap_.Insert(cloud.points_c, ray_points, T_w_c);
   ms.octomap = stage.ElapsedMs();
   clouds_.push_back(std::move(cloud));
@@ -279,8 +296,8 @@ cv::Mat SemanticMapper::DynamicMask(const SemanticInput& input, const std::vecto
   const Features& f = *input.keyframe->features;
   const double depth_factor = camera_->config().depth_factor;
   cv::Mat mask = DynamicPixelMask(input.depth, depth_factor, movers, classes_, f.keys, f.dynamic, c, f.unjudged, surface);
-  MaskCarriedBoxes(carried, input.depth, depth_factor, c.box_window_band, mask);
-  if (surface) MaskCarriedBoxes(carried, input.depth, depth_factor, c.seen_moving_band, *surface);
+  MaskCarriedBoxes(carried, input.depth, depth_factor, kBoxWindowBand, mask);
+  if (surface) MaskCarriedBoxes(carried, input.depth, depth_factor, kSeenMovingBand, *surface);
   if (c.cloud_border > 0) {
     // No keypoint (ORB's edge margin) and so no motion evidence reaches the border,
     // and the detector misses the people it cuts: it stays out of the map.
@@ -300,8 +317,8 @@ SemanticMapper::KeyFrameCloud SemanticMapper::MakeCloud(const SemanticInput& inp
   cloud.keyframe = input.keyframe;
   cloud.points_c =
       VoxelDownsample(BackProject(input.bgr, input.depth, depth_factor, mask, rays_, c.cloud_stride, c), c.cloud_voxel);
-  if (c.consistency_filter || seen_moving) cloud.depth_pooled = MinPooledDepth(input.depth, depth_factor, c.consistency_pool);
-  if (seen_moving) cloud.moving_pooled = MinPooledDepth(input.depth, depth_factor, c.consistency_pool, surface);
+  if (c.consistency_filter || seen_moving) cloud.depth_pooled = MinPooledDepth(input.depth, depth_factor, kDepthPool);
+  if (seen_moving) cloud.moving_pooled = MinPooledDepth(input.depth, depth_factor, kDepthPool, surface);
   return cloud;
 }
 
@@ -328,7 +345,7 @@ void SemanticMapper::ObserveObjects(const SemanticInput& input, const SE3& T_w_c
     auto obs = ObserveObject(d, input.depth, depth_factor, rays_, c, others);
     if (!obs) continue;
     obs->keyframe = input.keyframe;
-    const int b = c.object_border;
+    const int b = kObjectBorder;
     // A box cut by the image border is a partial view; it may still start an
     // object (one never seen whole is still in the room).
     obs->cut = d.box.x < b || d.box.y < b || d.box.x + d.box.width > input.depth.cols - b ||
@@ -372,10 +389,10 @@ void SemanticMapper::DropPointsOtherViewsContradict(const std::vector<SE3>& T_c_
         if (j == i || clouds_[j].depth_pooled.empty()) continue;
         const Eigen::Vector3d q = T_c_w[j] * x;
         if (q.z() < c.depth_min || q.z() > c.depth_max) continue;
-        const std::optional<cv::Point> px = PooledPixel(clouds_[j].depth_pooled.size(), *camera_, q, c.consistency_pool);
+        const std::optional<cv::Point> px = PooledPixel(clouds_[j].depth_pooled.size(), *camera_, q, kDepthPool);
         if (!px) continue;
         const float z = clouds_[j].depth_pooled.at<float>(*px);
-        const double tolerance = c.consistency_tolerance + c.consistency_tolerance_quadratic * q.z() * q.z();
+        const double tolerance = c.consistency_tolerance + kConsistencyToleranceQuadratic * q.z() * q.z();
         if (c.consistency_filter && z > 0 && z > q.z() + tolerance) {
           if (++through >= c.consistency_min_votes) break;  // keyframe j sees what lies behind the point
         }

@@ -148,7 +148,7 @@ class SemanticMapper {
   struct KeyFrameCloud {
     std::shared_ptr<KeyFrame> keyframe;
     std::vector<ColoredPoint> points_c;
-    cv::Mat depth_pooled;  // m (CV_32F), min over consistency_pool^2 pixels of valid depth; 0 = none
+    cv::Mat depth_pooled;  // m (CV_32F), min over pool^2 pixels of valid depth; 0 = none
     cv::Mat moving_pooled;  // the same over the pixels the keyframe's dynamic mask marks
   };
   // Drops the points other keyframes see through (consistency_filter) and those
@@ -179,7 +179,7 @@ class SemanticMapper {
   mutable std::mutex mutex_;  // guards queue_, frames_, last_frame_id_, stats_, stop_, octomap_request_
   std::condition_variable wake_;
   std::deque<SemanticInput> queue_;  // parallel: waiting for the worker; sequential: for their box window
-  std::deque<FrameBoxes> frames_;    // the last box_window_history frames, by frame id
+  std::deque<FrameBoxes> frames_;    // the last frames (a bounded history), by frame id
   std::optional<std::uint64_t> last_frame_id_;
   std::optional<std::filesystem::path> octomap_request_;  // guarded by mutex_
   std::size_t octomaps_written_ = 0;                      // guarded by mutex_

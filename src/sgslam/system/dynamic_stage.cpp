@@ -48,7 +48,7 @@ DetectionWorkerStats DynamicStage::detector_stats() const { return worker_ ? wor
 std::vector<bool> DynamicStage::ShowMotion(const std::vector<cv::KeyPoint>& keys, const dynamic::RejectionResult& r,
                                            const std::vector<Detection>& boxes) const {
   // Semantic mode has no geometry to ask, so it carries nothing: carrying every box
-  // there rejected so much that dyn_dev kept only 78 of 300 frames tracked.
+  // there would reject so much that tracking is lost.
   if (mode_ == dynamic::Mode::kSemantic) return std::vector<bool>(boxes.size(), false);
   constexpr int kMinKeypoints = 5;  // fewer in a box: no verdict, not carried
   const DynamicConfig& c = config_;

@@ -7,12 +7,12 @@
 // Mode none skips everything; geometric never needs the detector; semantic and sg
 // use it when one is given, else they degrade (semantic to none, sg to geometric)
 // with one warning. In sg, the boxes of moving objects that showed motion are
-// carried over the next frames
-// where the detector misses them (dynamic.carry_frames, box_carry.h). The
-// current LK pyramid is kept as the next frame's previous one, so each image's
-// pyramid is built once. The first frame has no flow: in sg its boxes alone judge
-// it, and the next Label judges the keypoints they rejected again, with the new
-// frame as the other image (dynamic.first_frame_rejudge).
+// carried over the next frames where the detector misses them
+// (dynamic.carry_frames, box_carry.h). The current LK pyramid is kept as the next
+// frame's previous one, so each image's pyramid is built once. The first frame has
+// no flow: in sg its boxes alone judge it, and the next Label judges the keypoints
+// they rejected again, with the new frame as the other image
+// (dynamic.first_frame_rejudge).
 //
 // Threading: all calls from the tracking thread; the detector runs on the
 // DetectionWorker's thread (or inside Submit in sequential mode).

@@ -61,9 +61,8 @@ SlamSystem::SlamSystem(const Config& config, bool sequential, std::unique_ptr<De
   // OpenCV's own worker threads (resize, blur, LK) would compete with local mapping
   // for the second core in every mode, not only when the detector sets it.
   if (config.detector.threads > 0) cv::setNumThreads(config.detector.threads);
-  // orb.threads 0: a helper thread only where a core is free for it. On two
-  // cores local mapping has the second one (fr1_rpy, none, 3 paired runs each,
-  // paced and unpaced: median frame time the same within noise, tracking slower).
+  // orb.threads 0: a helper thread only where a core is free for it; on two
+  // cores local mapping has the second one.
   const bool spare_core = std::thread::hardware_concurrency() > 2 && !sequential_ && !dynamic_.has_detector();
   extractor_.set_threads(config.orb.threads > 0 ? config.orb.threads : (spare_core ? 2 : 1));
   if (config.semantic.enabled) {

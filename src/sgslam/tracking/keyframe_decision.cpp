@@ -61,8 +61,8 @@ int Tracker::AddDepthPoints(Frame& frame, const std::shared_ptr<KeyFrame>& kf, b
   for (std::size_t i = 0; i < f.size(); ++i) {
     // A keypoint matched to a map point but an outlier of the pose optimisation
     // disagrees with the map: on a moving object it would re-enter the map at
-    // every keyframe at its new place (the unknown box of dyn_dev did). Only with
-    // dynamic rejection on (labels present): mode none stays ORB-SLAM2's rule.
+    // every keyframe at its new place. Only with dynamic rejection on (labels
+    // present): mode none stays ORB-SLAM2's rule.
     const bool suspect = frame.map_points[i] && frame.outlier[i] && !f.dynamic.empty();
     if (f.depth[i] > 0 && !frame.rejected[i] && !(suspect && config_.skip_outlier_depth_points)) {
       by_depth.emplace_back(f.depth[i], i);
@@ -110,8 +110,7 @@ int Tracker::ConfirmStaticInFirstKeyFrame(const std::vector<std::uint8_t>& now_s
   last_frame_.rejected = relabelled->dynamic;
   AddDepthPoints(last_frame_, kf, /*all=*/true);
   // Trusted like the first keyframe's other points (trusted_pose.h), which only had
-  // to lie outside the boxes: these passed Algorithm 1 and the RGB-D check. Left to
-  // earn trust instead, fr1_rpy sg gave 0.0101 m over ten ORB budgets, against 0.0094.
+  // to lie outside the boxes: these passed Algorithm 1 and the RGB-D check.
   TrustAll(kf->map_points());
   return cleared;
 }

@@ -173,7 +173,7 @@ std::optional<SE3> Tracker::RefinePrevious(const Frame& next) {
   const auto w = AngularVelocity(next.T_c_w * before_last_->Pose().Inverse(), ToSeconds(next.t - before_last_->t));
   if (!w) return std::nullopt;
   // A copy: the motion model and the next search go on from the pose tracking gave
-  // it (refining it there too was not measured to help; see README "Rolling shutter").
+  // it; only the exported trajectory takes the refit (docs/rolling-shutter.md).
   Frame copy = last_frame_;
   copy.features = WithRollingShutterCorrection(*last_frame_.features, *w);
   int matched = 0;
@@ -191,9 +191,8 @@ std::optional<SE3> Tracker::RefinePrevious(const Frame& next) {
 bool Tracker::Initialize(Frame& frame, TrackResult& result) {
   const auto& depth = frame.features->depth;
   const auto with_depth = std::count_if(depth.begin(), depth.end(), [](float d) { return d > 0; });
-  // At most half the ORB budget: with orb.features 500 a frame has ~450 keypoints
-  // with depth and would never reach 500 (ORB-SLAM2 asks for 500 keypoints, with
-  // depth or not).
+  // At most half the ORB budget: not every keypoint has depth, so a frame would
+  // never reach the whole budget (ORB-SLAM2 asks for 500 keypoints, with depth or not).
   const int needed = config_.min_init_points;
   if (with_depth < needed) {
     best_init_depth_points_ = std::max<int>(best_init_depth_points_, static_cast<int>(with_depth));
@@ -209,12 +208,11 @@ bool Tracker::Initialize(Frame& frame, TrackResult& result) {
   // The map starts from the keypoints that dynamic rejection kept. When it kept
   // few of them (a first frame whose false-positive boxes cover most of the image,
   // with no flow yet to judge by), a map of a hundred points can lose the next
-  // frame for good (dyn_dev with dynamic.min_kept_ratio 0.1: 102 points, then 299
-  // frames lost): wait for a frame that keeps at least half of min_init_points,
+  // frame for good: wait for a frame that keeps at least half of min_init_points,
   // but not forever (a scene that stays covered by movers must still start).
-  // Half: on fr1_rpy the first frame keeps ~400 of its 1000 keypoints under a
-  // false "person" box; the next frame's flow judges the other 600 again
-  // (ConfirmStaticInFirstKeyFrame) and brings back the static ones.
+  // Half, not all: a false "person" box may cover much of the first frame, and the
+  // next frame's flow judges those keypoints again (ConfirmStaticInFirstKeyFrame)
+  // and brings back the static ones.
   int usable = 0;
   for (std::size_t i = 0; i < depth.size(); ++i) usable += depth[i] > 0 && frame.usable(i);
   if (2 * usable < needed && init_deferred_ < kMaxInitDeferrals) {

@@ -1,11 +1,10 @@
 // Trusted map points: which matches may set a frame's pose.
 //
 // Two-frame tests (Algorithm 1, the RGB-D check) cannot see an object that moves
-// less between two frames than the images' noise: dyn_dev's unknown box moves
-// 1.2 cm a frame, mostly along the view. Its keypoints pass, become map points at
-// the next keyframe, and being fresh they agree with each other while the older
-// static points, half of which a blurred fr1 view leaves as outliers, do not:
-// over frames 60-69 the pose followed 103 box matches against 28 static ones.
+// less between two frames than the images' noise, such as a box pushed slowly
+// along the view. Its keypoints pass, become map points at the next keyframe, and
+// being fresh they agree with each other while the older static points, many of
+// which a blurred view leaves as outliers, do not: the pose follows the object.
 // Time separates them: a static point still fits the map a while after it was
 // made, a moving one has left the place it was mapped at. So a map point earns
 // trust by matching as a pose inlier `hits` times at least `delay` after its
