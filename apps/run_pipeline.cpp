@@ -147,6 +147,43 @@ void AddAte(const TumDataset& dataset, const Trajectory& trajectory, RunSummary&
   }
 }
 
+// stats.json (but its semantic section), and the summary's counts into s.
+nlohmann::json RunStats(const RunOptions& o, const Config& config, const TumDataset& dataset, const FrameLoop& loop,
+                        const SlamSystem& system, const Trajectory& trajectory, const TruthScorer& truth,
+                        double seconds, RunSummary& s) {
+  s.frames = loop.reports.size();
+  for (const auto& r : loop.reports) {
+    s.tracked += r.state == TrackState::kOk;
+    s.lost += r.state == TrackState::kLost;
+  }
+  s.keyframes = system.NumKeyFrames();
+  s.median_frame_ms = MedianFrameMs(loop.reports);
+  s.fps = seconds > 0 ? s.frames / seconds : 0.0;
+  s.peak_rss_mib = PeakRssMiB();
+  nlohmann::json stats = {{"dataset", dataset.dir().string()},
+                          {"mode", config.dynamic.mode},
+                          {"sequential", o.sequential},
+                          {"realtime", o.realtime},
+                          {"frames", s.frames},
+                          {"tracked", s.tracked},
+                          {"lost", s.lost},
+                          {"keyframes", s.keyframes},
+                          {"map_points", s.map_points},
+                          {"median_ms", MedianMsJson(loop.reports, s.median_frame_ms)},
+                          {"fps", s.fps},
+                          {"peak_rss_mib", s.peak_rss_mib},
+                          {"dynamic", DynamicJson(loop.reports, system)},
+                          {"local_mapping", LocalMappingJson(system)}};
+  if (nlohmann::json t = truth.RejectionJson(); !t.is_null()) stats["dynamic"]["truth"] = t;
+  if (const auto& gba = system.final_ba(); gba && gba->local_keyframes > 0) {
+    spdlog::info("final bundle adjustment: {} keyframes, {} points, {:.2f} s", gba->local_keyframes, gba->local_points,
+                 gba->ms / 1000.0);
+    stats["final_ba"] = {{"ms", gba->ms}, {"keyframes", gba->local_keyframes}, {"points", gba->local_points}};
+  }
+  AddAte(dataset, trajectory, s, stats);
+  return stats;
+}
+
 }  // namespace
 
 RunSummary RunSequence(const RunOptions& o) {
@@ -190,37 +227,8 @@ RunSummary RunSequence(const RunOptions& o) {
     if (nlohmann::json t = truth.SemanticJson(*sem, dataset, config.camera); !t.is_null()) semantic["truth"] = t;
   }
 
-  s.frames = loop.reports.size();
-  for (const auto& r : loop.reports) {
-    s.tracked += r.state == TrackState::kOk;
-    s.lost += r.state == TrackState::kLost;
-  }
-  s.keyframes = system.NumKeyFrames();
   s.map_points = points.size();
-  s.median_frame_ms = MedianFrameMs(loop.reports);
-  s.fps = seconds > 0 ? s.frames / seconds : 0.0;
-  s.peak_rss_mib = PeakRssMiB();
-  nlohmann::json stats = {{"dataset", dataset.dir().string()},
-                          {"mode", config.dynamic.mode},
-                          {"sequential", o.sequential},
-                          {"realtime", o.realtime},
-                          {"frames", s.frames},
-                          {"tracked", s.tracked},
-                          {"lost", s.lost},
-                          {"keyframes", s.keyframes},
-                          {"map_points", s.map_points},
-                          {"median_ms", MedianMsJson(loop.reports, s.median_frame_ms)},
-                          {"fps", s.fps},
-                          {"peak_rss_mib", s.peak_rss_mib},
-                          {"dynamic", DynamicJson(loop.reports, system)},
-                          {"local_mapping", LocalMappingJson(system)}};
-  if (nlohmann::json t = truth.RejectionJson(); !t.is_null()) stats["dynamic"]["truth"] = t;
-  if (const auto& gba = system.final_ba(); gba && gba->local_keyframes > 0) {
-    spdlog::info("final bundle adjustment: {} keyframes, {} points, {:.2f} s", gba->local_keyframes, gba->local_points,
-                 gba->ms / 1000.0);
-    stats["final_ba"] = {{"ms", gba->ms}, {"keyframes", gba->local_keyframes}, {"points", gba->local_points}};
-  }
-  AddAte(dataset, trajectory, s, stats);
+  nlohmann::json stats = RunStats(o, config, dataset, loop, system, trajectory, truth, seconds, s);
   if (!semantic.is_null()) stats["semantic"] = semantic;
   if (!loop.failure.empty()) stats["error"] = loop.failure;
   if (s.frames > 0 && s.tracked == 0) {
