@@ -135,8 +135,14 @@ void DynamicStage::AwaitDetections(std::uint64_t frame_id, const dynamic::PairSe
 dynamic::RejectionResult DynamicStage::Judge(const dynamic::PairSet& pairs, const std::vector<cv::KeyPoint>& keys,
                                              const cv::Mat& depth_raw, cv::Size image, bool first,
                                              const std::vector<Detection>& detections) {
-  DynamicConfig dyn = config_;
-  if (first && mode_ == dynamic::Mode::kSg) dyn.mode = "semantic";  // no flow yet: boxes are the only evidence
+  // No flow yet in sg's first frame: the boxes are the only evidence (a copy of the
+  // config only then: it holds a string, and this runs every frame).
+  std::optional<DynamicConfig> boxes_only;
+  if (first && mode_ == dynamic::Mode::kSg) {
+    boxes_only = config_;
+    boxes_only->mode = "semantic";
+  }
+  const DynamicConfig& dyn = boxes_only ? *boxes_only : config_;
   std::optional<dynamic::DepthCheckInput> depth;
   if (dyn.depth_check && !prev_depth_.empty()) depth = DepthInput(prev_depth_, depth_raw);
   std::vector<Detection> judged;
