@@ -53,14 +53,16 @@ TEST(BoundedQueue, ShutdownWakesABlockedProducerAndConsumer) {
   EXPECT_EQ(full.Pop(), 0) << "what was queued can still be taken";
 }
 
-TEST(BoundedQueue, ClearTakesEverythingOut) {
+TEST(BoundedQueue, ShutdownAndClearTakesEverythingOut) {
   BoundedQueue<int> q(3, Overflow::kDropOldest);
   q.Push(1);
   q.Push(2);
-  const auto items = q.Clear();
+  const auto items = q.ShutdownAndClear();
   ASSERT_EQ(items.size(), 2u);
   EXPECT_EQ(items.front(), 1);
   EXPECT_EQ(q.size(), 0u);
+  EXPECT_FALSE(q.Pop()) << "nothing is handed out after it";
+  EXPECT_FALSE(q.Push(3).accepted);
 }
 
 }  // namespace

@@ -65,11 +65,14 @@ class BoundedQueue {
     not_full_.notify_all();
   }
 
-  // Takes every queued item out (for a consumer that abandons them at shutdown).
-  std::deque<T> Clear() {
+  // Shutdown() that also takes every queued item out, at once: for a consumer that
+  // abandons what is left (no item is popped after this returns).
+  std::deque<T> ShutdownAndClear() {
     std::lock_guard lock(mutex_);
+    shut_down_ = true;
     std::deque<T> out;
     out.swap(items_);
+    not_empty_.notify_all();
     not_full_.notify_all();
     return out;
   }
@@ -78,7 +81,6 @@ class BoundedQueue {
     std::lock_guard lock(mutex_);
     return items_.size();
   }
-  std::size_t capacity() const { return capacity_; }
   std::size_t dropped() const {
     std::lock_guard lock(mutex_);
     return dropped_;

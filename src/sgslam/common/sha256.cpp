@@ -32,6 +32,7 @@ std::map<std::string, std::string> ReadSha256Sums(const std::filesystem::path& s
   std::map<std::string, std::string> sums;
   std::string line;
   for (int number = 1; std::getline(in, line); ++number) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
     if (line.empty() || line[0] == '#') continue;
     // "<digest>  <name>" (text mode) or "<digest> *<name>" (binary mode).
     const bool ok = line.size() > 66 && line[64] == ' ' && (line[65] == ' ' || line[65] == '*');
@@ -42,7 +43,7 @@ std::map<std::string, std::string> ReadSha256Sums(const std::filesystem::path& s
       hex = hex && std::isxdigit(static_cast<unsigned char>(c));
     }
     if (!hex) throw ParseError(sums_file.string(), number, "expected '<64 hex digits>  <file name>'");
-    sums[line.substr(66)] = digest;
+    sums[std::filesystem::path(line.substr(66)).filename().string()] = digest;
   }
   return sums;
 }

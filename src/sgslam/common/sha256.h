@@ -12,8 +12,9 @@ namespace sgslam {
 // Lower-case hex digest.
 std::string Sha256Hex(std::string_view bytes);
 
-// File name -> digest, as listed in a SHA256SUMS file. Throws ParseError naming
-// the file and line of a malformed entry, InputError if it cannot be read.
+// File name (without its folder) -> digest, as listed in a SHA256SUMS file (CRLF
+// line ends too). Throws ParseError naming the file and line of a malformed entry,
+// InputError if it cannot be read.
 std::map<std::string, std::string> ReadSha256Sums(const std::filesystem::path& sums_file);
 
 }  // namespace sgslam

@@ -167,10 +167,11 @@ template <class T>
 std::string ConfigValueText(const T& value) {
   std::ostringstream out;
   if constexpr (std::is_same_v<T, std::map<std::string, double>>) {
+    out << "{";
     for (const auto& [entry, number] : value) {
       YAML::Emitter quoted;
       quoted << YAML::DoubleQuoted << entry;
-      out << (out.tellp() > 0 ? ", " : "{") << quoted.c_str() << ": " << number;
+      out << (out.tellp() > 1 ? ", " : "") << quoted.c_str() << ": " << number;
     }
     out << "}";
   } else if constexpr (std::is_same_v<T, std::string>) {

@@ -7,6 +7,8 @@
 #include <map>
 #include <sstream>
 
+#include <spdlog/spdlog.h>
+
 #include "sgslam/common/data_dir.h"
 #include "sgslam/common/error.h"
 #include "sgslam/common/sha256.h"
@@ -152,6 +154,11 @@ DarknetModel LoadDarknetModel(const fs::path& dir, const std::string& model, flo
   std::error_code ec;
   if (const fs::path sums_file = dir / "SHA256SUMS"; fs::is_regular_file(sums_file, ec)) {
     const auto sums = ReadSha256Sums(sums_file);
+    for (const fs::path& f : {m.cfg, m.weights}) {
+      if (!sums.count(f.filename().string())) {
+        spdlog::warn("{} does not list {}: the file is loaded unchecked", sums_file.string(), f.filename().string());
+      }
+    }
     CheckListedSum(m.cfg, cfg_text, sums);
     CheckListedSum(m.weights, weights, sums);
     CheckListedSum(names_file, names, sums);

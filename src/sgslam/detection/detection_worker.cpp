@@ -80,6 +80,7 @@ void DetectionWorker::Process(Job job) {
   result.inference_ms = watch.ElapsedMs();
   job.bgr.release();
 
+  const bool failed = error != nullptr;
   std::lock_guard lock(mutex_);
   ++stats_.processed;
   stats_.total_inference_ms += result.inference_ms;
@@ -95,7 +96,7 @@ void DetectionWorker::Process(Job job) {
   // A frame whose slot is gone was waited past: its result is of no use.
   if (const auto it = slots_.find(job.frame_id); it != slots_.end()) {
     it->second.outstanding = false;
-    if (!error) it->second.result = std::move(result);
+    if (!failed) it->second.result = std::move(result);
     KeepResultsBounded();
   }
   result_ready_.notify_all();
@@ -118,7 +119,6 @@ std::optional<DetectionResult> DetectionWorker::WaitResult(std::uint64_t frame_i
   std::optional<DetectionResult> out;
   if (const auto it = slots_.find(frame_id); it != slots_.end()) out = std::move(it->second.result);
   slots_.erase(slots_.begin(), slots_.upper_bound(frame_id));
-  last_waited_ = std::max(last_waited_.value_or(0), frame_id);
   if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
   if (!done) ++stats_.timeouts;
   return out;
@@ -130,8 +130,7 @@ void DetectionWorker::Shutdown() {
     if (shut_down_) return;
     shut_down_ = true;
   }
-  pending_.Shutdown();
-  const auto abandoned = pending_.Clear();
+  const auto abandoned = pending_.ShutdownAndClear();
   std::lock_guard lock(mutex_);
   for (const Job& job : abandoned) Dropped(job.frame_id);
   result_ready_.notify_all();

@@ -102,7 +102,6 @@ class DetectionWorker {
   mutable std::mutex mutex_;   // guards what follows
   std::condition_variable result_ready_;
   std::optional<std::uint64_t> last_submitted_;
-  std::optional<std::uint64_t> last_waited_;
   std::map<std::uint64_t, Slot> slots_;  // submitted frames not yet waited for
   std::exception_ptr error_;             // first detector exception not yet rethrown
   bool shut_down_ = false;

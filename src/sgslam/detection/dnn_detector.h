@@ -29,7 +29,8 @@ namespace sgslam {
 
 class DnnDetector final : public Detector {
  public:
-  // Loads <model_dir or $SGSLAM_MODEL_DIR>/<model>.{cfg,weights} and coco.names.
+  // Loads <model>.{cfg,weights} and coco.names from the folder ResolveModelDir finds
+  // (model_dir, else $SGSLAM_MODEL_DIR, else the shipped models).
   // Throws InputError naming the folder or file at fault.
   explicit DnnDetector(const DetectorConfig& config);
 

@@ -17,8 +17,8 @@
 // Coordinates: depth images are sampled at the raw keypoint/flow positions (TUM
 // depth is registered to the colour image). The geometry uses undistorted pixels:
 // pass `undistort` when the images are distorted; without it the positions are
-// taken as undistorted. T_cur_prev comes from tracking (motion model or the
-// optimised pose); its error adds to the tolerances, see the tests for a measure.
+// taken as undistorted. T_cur_prev is the PnP motion of the flow pairs (motion.h);
+// its error adds to the tolerances, see the tests for a measure.
 #pragma once
 
 #include <Eigen/Core>

@@ -135,7 +135,9 @@ namespace {
 // not take pairs out of the F and PnP fits, since where they have drifted off their
 // object they would leave the fits to what moves.
 struct Weights {
-  std::vector<double> w, w_fit;
+  std::vector<double> w;
+  std::vector<double> w_fresh;  // without the carried boxes; empty when the frame has none
+  const std::vector<double>& fit() const { return w_fresh.empty() ? w : w_fresh; }
 };
 Weights WeighKeypoints(Mode mode, const std::vector<cv::KeyPoint>& keys, const std::vector<Detection>& detections,
                        const WeightFn& weight, const DynamicConfig& config, const DepthCheckInput* depth) {
@@ -152,9 +154,7 @@ Weights WeighKeypoints(Mode mode, const std::vector<cv::KeyPoint>& keys, const s
     for (const Detection& d : detections) {
       if (d.carried == 0) fresh.push_back(d);
     }
-    out.w_fit = weights_of(fresh);
-  } else {
-    out.w_fit = out.w;
+    out.w_fresh = weights_of(fresh);
   }
   return out;
 }
@@ -278,7 +278,7 @@ RejectionResult JudgePairs(const PairSet& pairs, const std::vector<cv::KeyPoint>
     valid[i] = pairs.flow.status[i] == PairStatus::kOk;
     if (!valid[i]) continue;
     use_motion[i] =
-        (mode != Mode::kSg || w.w_fit[i] <= 1.0) && !(prior != nullptr && prior->Dynamic(pairs.flow.prev[i]));
+        (mode != Mode::kSg || w.fit()[i] <= 1.0) && !(prior != nullptr && prior->Dynamic(pairs.flow.prev[i]));
   }
   FitFundamental(pairs, valid, config, use_motion, r);  // line 3
   r.ms.fundamental = stage.ElapsedMs();

@@ -503,11 +503,14 @@ bool SemanticMapper::Exported(const Eigen::Vector3d& p_w) const {
 
 void SemanticMapper::Publish(const KeyFrameCloud& cloud) {
   auto points = std::make_shared<const std::vector<ColoredPoint>>(cloud.points_c);
-  std::vector<ObjectEstimate> objects;
+  // The poses under the map's lock, the estimate (which carves every object with
+  // every view) outside it: local mapping must not wait for this low-priority thread.
+  std::unordered_map<const KeyFrame*, SE3> T_w_c;
   {
     std::shared_lock lock(map_.mutex());
-    objects = objects_.Estimate([](const KeyFrame& kf) { return kf.PlacedT_c_w().Inverse(); });
+    for (const KeyFrameCloud& k : clouds_) T_w_c.emplace(k.keyframe.get(), k.keyframe->PlacedT_c_w().Inverse());
   }
+  std::vector<ObjectEstimate> objects = objects_.Estimate([&](const KeyFrame& kf) { return T_w_c.at(&kf); });
   std::lock_guard lock(published_mutex_);
   published_.clouds.emplace_back(cloud.keyframe, std::move(points));
   published_.objects = std::move(objects);

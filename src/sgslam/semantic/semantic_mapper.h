@@ -20,6 +20,7 @@
 // box window), and a pending OctoMap request is served first.
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <deque>
 #include <filesystem>
@@ -171,7 +172,7 @@ class SemanticMapper {
   OctoMapBuilder octomap_;
   ObjectDatabase objects_;
 
-  bool publishing_ = false;
+  std::atomic<bool> publishing_{false};
   void Publish(const KeyFrameCloud& cloud);  // the worker (or the only thread)
   mutable std::mutex published_mutex_;       // guards published_; never held with mutex_ or the map's
   Published published_;

@@ -159,7 +159,6 @@ DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, 
                                    const std::vector<cv::KeyPoint>& keys) {
   DynamicOutcome out;
   out.dynamic.assign(keys.size(), 0);
-  out.detector_used = worker_ != nullptr;
   if (mode_ == dynamic::Mode::kNone) return out;
 
   const Stopwatch flow_watch;

@@ -20,12 +20,10 @@
 
 #include <chrono>
 #include <memory>
-#include <optional>
 #include <vector>
 
 #include <opencv2/core.hpp>
 
-#include "sgslam/common/se3.h"
 #include "sgslam/detection/detection.h"
 #include "sgslam/detection/detection_worker.h"
 #include "sgslam/detection/detector.h"
@@ -46,7 +44,6 @@ struct DynamicOutcome {
   int carried = 0;                    // of detections: missed moving-object boxes carried over (box_carry.h)
   int kept = 0, rejected_geometry = 0, rejected_semantics = 0, rejected_depth = 0;
   bool judged = false;        // Algorithm 1 ran (not the first frame, mode not none)
-  bool detector_used = false;  // a detector is attached
   bool detector_late = false;  // the wait timed out or the frame was dropped
   double detector_ms = 0;      // inference time of this frame's detections
   double wait_ms = 0;          // time tracking waited for them

@@ -13,9 +13,12 @@ namespace fs = std::filesystem;
 
 fs::path ResolveConfigPath(const fs::path& config) {
   std::error_code ec;
-  if (fs::exists(config, ec) || config.has_parent_path()) return config;
+  if (fs::is_regular_file(config, ec) || config.has_parent_path()) return config;
   const auto data = DataDir();
-  if (!data) return config;
+  if (!data) {
+    throw InputError("config file not found: " + config.string() +
+                     " (and the configs shipped with sgslam were not found beside the executable)");
+  }
   fs::path shipped = *data / "configs" / config;
   if (!shipped.has_extension()) shipped += ".yaml";
   if (fs::is_regular_file(shipped, ec)) return shipped;

@@ -20,7 +20,8 @@ namespace sgslam {
 namespace {
 
 // The map starts on a frame with min_init_points keypoints with depth, but never
-// needs more than half the ORB budget (a user lowering orb.features for speed).
+// needs more than half the ORB budget: not every keypoint has depth (ORB-SLAM2 asks
+// for 500 keypoints, with depth or not), and a user may lower orb.features for speed.
 TrackingConfig TrackingSection(const Config& config) {
   TrackingConfig tracking = config.tracking;
   tracking.min_init_points = std::min(tracking.min_init_points, std::max(1, config.orb.features / 2));
@@ -211,14 +212,15 @@ TrackResult SlamSystem::Track(Frame& frame, FrameReport& report) {
 }
 
 void SlamSystem::RecordPoses(const Frame& frame, const TrackResult& result) {
-  std::shared_lock lock(map_.mutex());
   if (result.previous_refined && !records_.empty() && records_.back().frame_id == result.previous_refined->frame_id) {
     // The previous frame, fitted again with the velocity of the frames on either
     // side of it: its exported pose (relative to the same reference keyframe).
+    std::shared_lock lock(map_.mutex());
     PoseRecord& r = records_.back();
     r.T_c_r = result.previous_refined->T_c_w * r.reference->T_w_c();
   }
   if (result.state == TrackState::kOk && frame.reference_kf) {
+    std::shared_lock lock(map_.mutex());
     records_.push_back({frame.id, frame.t, frame.reference_kf, frame.T_c_w * frame.reference_kf->T_w_c(),
                         frame.T_c_w.Inverse()});
   }

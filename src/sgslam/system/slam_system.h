@@ -3,7 +3,8 @@
 // in the caller's thread, so output is identical on every run; otherwise local
 // mapping runs on its own thread fed by a bounded keyframe queue.
 //
-// Threading: Process() and the result accessors are called from one thread.
+// Threading: Process() and the result accessors are called from one thread; the
+// snapshot accessors (LatestFrame, SnapshotMap) from any thread.
 #pragma once
 
 #include <atomic>
@@ -139,13 +140,12 @@ class SlamSystem {
   std::unique_ptr<SemanticMapper> semantic_;  // fed by local mapping with refined keyframes
   BoundedQueue<SemanticInput> queue_;         // keyframes (with their images) for local mapping
   std::atomic<bool> mapping_busy_{false};
-  std::atomic<bool> finishing_{false};
   mutable std::mutex stats_mutex_;
   std::vector<MappingStats> mapping_stats_;  // guarded by stats_mutex_
   std::optional<MappingStats> final_ba_;     // set by Finish() when mapping.final_ba_iterations > 0
   std::thread mapping_thread_;
   bool finished_ = false;
-  bool snapshots_ = false;
+  std::atomic<bool> snapshots_{false};
   mutable std::mutex frame_snapshot_mutex_;  // guards latest_frame_
   std::shared_ptr<const FrameSnapshot> latest_frame_;
 };

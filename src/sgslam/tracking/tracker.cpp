@@ -191,8 +191,8 @@ std::optional<SE3> Tracker::RefinePrevious(const Frame& next) {
 bool Tracker::Initialize(Frame& frame, TrackResult& result) {
   const auto& depth = frame.features->depth;
   const auto with_depth = std::count_if(depth.begin(), depth.end(), [](float d) { return d > 0; });
-  // At most half the ORB budget: not every keypoint has depth, so a frame would
-  // never reach the whole budget (ORB-SLAM2 asks for 500 keypoints, with depth or not).
+  // Capped at half the ORB budget by the system (SlamSystem's TrackingSection): not
+  // every keypoint has depth, so a frame would never reach the whole budget.
   const int needed = config_.min_init_points;
   if (with_depth < needed) {
     best_init_depth_points_ = std::max<int>(best_init_depth_points_, static_cast<int>(with_depth));
