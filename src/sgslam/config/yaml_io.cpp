@@ -163,21 +163,27 @@ void LoadConfigFile(const fs::path& file, Config& config) {
   throw ConfigError(message);
 }
 
+namespace {
+
+std::string Quoted(const std::string& text) {
+  YAML::Emitter quoted;
+  quoted << YAML::DoubleQuoted << text;
+  return quoted.c_str();
+}
+
+}  // namespace
+
 template <class T>
 std::string ConfigValueText(const T& value) {
   std::ostringstream out;
   if constexpr (std::is_same_v<T, std::map<std::string, double>>) {
     out << "{";
     for (const auto& [entry, number] : value) {
-      YAML::Emitter quoted;
-      quoted << YAML::DoubleQuoted << entry;
-      out << (out.tellp() > 1 ? ", " : "") << quoted.c_str() << ": " << number;
+      out << (out.tellp() > 1 ? ", " : "") << Quoted(entry) << ": " << number;
     }
     out << "}";
   } else if constexpr (std::is_same_v<T, std::string>) {
-    YAML::Emitter quoted;
-    quoted << YAML::DoubleQuoted << value;
-    out << quoted.c_str();
+    out << Quoted(value);
   } else if constexpr (std::is_same_v<T, bool>) {
     out << (value ? "true" : "false");
   } else if constexpr (std::is_floating_point_v<T>) {
@@ -205,9 +211,7 @@ std::string ConfigToYaml(const Config& config) {
       if constexpr (std::is_same_v<T, std::map<std::string, double>>) {
         out << "  # " << unit << "\n";
         for (const auto& [entry, number] : value) {
-          YAML::Emitter quoted;
-          quoted << YAML::DoubleQuoted << entry;
-          out << "    " << quoted.c_str() << ": " << number << "\n";
+          out << "    " << Quoted(entry) << ": " << number << "\n";
         }
       } else {
         out << ConfigValueText(value) << "  # " << unit << "\n";
