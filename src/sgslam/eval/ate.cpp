@@ -1,9 +1,9 @@
 #include "sgslam/eval/ate.h"
 
-#include <Eigen/SVD>
 #include <cstdio>
 
 #include "sgslam/common/error.h"
+#include "sgslam/geometry/rigid.h"
 #include "sgslam/io/association.h"
 
 namespace sgslam::eval {
@@ -25,25 +25,6 @@ std::string Seconds(Timestamp t) {
 
 }  // namespace
 
-SE3 AlignRigid(const std::vector<Eigen::Vector3d>& model, const std::vector<Eigen::Vector3d>& data) {
-  Eigen::Vector3d model_mean = Eigen::Vector3d::Zero(), data_mean = Eigen::Vector3d::Zero();
-  for (std::size_t i = 0; i < model.size(); ++i) {
-    model_mean += model[i];
-    data_mean += data[i];
-  }
-  model_mean /= static_cast<double>(model.size());
-  data_mean /= static_cast<double>(data.size());
-  // evaluate_ate.py: W = sum model_c data_c^T, U d Vh = svd(W^T), R = U S Vh.
-  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
-  for (std::size_t i = 0; i < model.size(); ++i) H += (data[i] - data_mean) * (model[i] - model_mean).transpose();
-  const Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d S = Eigen::Matrix3d::Identity();
-  // A reflection fits coplanar or noisy points better than any rotation; forbid it.
-  if (svd.matrixU().determinant() * svd.matrixV().determinant() < 0) S(2, 2) = -1;
-  const Eigen::Matrix3d R = svd.matrixU() * S * svd.matrixV().transpose();
-  return SE3(R, data_mean - R * model_mean);
-}
-
 AteResult ComputeAte(const Trajectory& gt, const Trajectory& est, Timestamp max_difference,
                      const std::string& gt_name, const std::string& est_name) {
   if (gt.empty()) throw InputError("ground truth " + gt_name + " contains no poses");
@@ -64,7 +45,7 @@ AteResult ComputeAte(const Trajectory& gt, const Trajectory& est, Timestamp max_
     gt_xyz.push_back(gt[i].T_w_c.translation());
     est_xyz.push_back(est[j].T_w_c.translation());
   }
-  result.T_gt_est = AlignRigid(est_xyz, gt_xyz);
+  result.T_gt_est = geometry::AlignRigid(est_xyz, gt_xyz);
   for (std::size_t k = 0; k < est_xyz.size(); ++k) {
     result.errors.push_back((result.T_gt_est * est_xyz[k] - gt_xyz[k]).norm());
   }

@@ -1,6 +1,7 @@
 // Absolute trajectory error as TUM's evaluate_ate.py defines it: poses associated
 // by timestamp (associate.py), estimate positions rigidly aligned to the ground
-// truth with Horn's closed form (no scale), error = |R * p_est + t - p_gt| per pair.
+// truth with Horn's closed form (no scale; geometry::AlignRigid), error =
+// |R * p_est + t - p_gt| per pair.
 #pragma once
 
 #include <cstddef>
@@ -16,10 +17,6 @@
 #include "sgslam/io/trajectory.h"
 
 namespace sgslam::eval {
-
-// Horn / Umeyama without scale: the rigid T_data_model minimising
-// sum |T * model[i] - data[i]|^2. Both lists must have the same size >= 1.
-SE3 AlignRigid(const std::vector<Eigen::Vector3d>& model, const std::vector<Eigen::Vector3d>& data);
 
 struct AteResult {
   ErrorStats stats;                                    // over errors, in metres
