@@ -19,6 +19,7 @@ Action AddEvalCommand(CLI::App& root);
 Action AddSynthCommand(CLI::App& root);
 Action AddDemoCommand(CLI::App& root);
 Action AddConfigCommand(CLI::App& root);
+Action AddVocabCommand(CLI::App& root);
 
 // Exit statuses shared by every subcommand.
 constexpr int kExitOk = 0;

@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   add(AddSynthCommand(root));
   add(AddDemoCommand(root));
   add(AddConfigCommand(root));
+  add(AddVocabCommand(root));
 
   try {
     root.parse(argc, argv);
@@ -42,7 +43,7 @@ int main(int argc, char** argv) {
                           : verbosity == 1 ? spdlog::level::debug
                                            : spdlog::level::info);
   if (root.get_subcommands().empty()) {
-    std::fprintf(stderr, "%s\nerror: a subcommand is required (run, eval, synth, demo or config)\n", root.help().c_str());
+    std::fprintf(stderr, "%s\nerror: a subcommand is required (run, eval, synth, demo, config or vocab)\n", root.help().c_str());
     return kExitUsage;
   }
   try {

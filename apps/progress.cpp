@@ -7,13 +7,14 @@
 
 namespace sgslam::app {
 
-ProgressBar::ProgressBar(std::size_t total) : total_(total), enabled_(isatty(STDERR_FILENO) != 0 && total > 0) {}
+ProgressBar::ProgressBar(std::size_t total, const char* unit)
+    : total_(total), unit_(unit), enabled_(isatty(STDERR_FILENO) != 0 && total > 0) {}
 
 ProgressBar::~ProgressBar() {
   if (enabled_ && last_percent_ >= 0) std::fputc('\n', stderr);
 }
 
-void ProgressBar::Update(std::size_t done, double fps) {
+void ProgressBar::Update(std::size_t done, double rate) {
   if (!enabled_) return;
   const int percent = static_cast<int>(100 * done / total_);
   if (percent == last_percent_ && done != total_) return;
@@ -22,7 +23,11 @@ void ProgressBar::Update(std::size_t done, double fps) {
   const int filled = kWidth * percent / 100;
   std::string bar(filled, '=');
   bar.resize(kWidth, ' ');
-  std::fprintf(stderr, "\r[%s] %3d%% %zu/%zu frames %5.1f fps", bar.c_str(), percent, done, total_, fps);
+  if (rate > 0) {
+    std::fprintf(stderr, "\r[%s] %3d%% %zu/%zu %s %5.1f/s", bar.c_str(), percent, done, total_, unit_, rate);
+  } else {
+    std::fprintf(stderr, "\r[%s] %3d%% %zu/%zu %s", bar.c_str(), percent, done, total_, unit_);
+  }
   std::fflush(stderr);
 }
 

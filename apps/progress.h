@@ -7,12 +7,14 @@ namespace sgslam::app {
 
 class ProgressBar {
  public:
-  explicit ProgressBar(std::size_t total);
+  // unit: what is counted ("frames"); rate: per second, shown when > 0.
+  explicit ProgressBar(std::size_t total, const char* unit = "frames");
   ~ProgressBar();
-  void Update(std::size_t done, double fps);
+  void Update(std::size_t done, double rate);
 
  private:
   std::size_t total_;
+  const char* unit_;
   bool enabled_;
   int last_percent_ = -1;
 };

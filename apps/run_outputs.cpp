@@ -127,4 +127,38 @@ nlohmann::json LocalMappingJson(const SlamSystem& system) {
           {"median_ba_points", median(&MappingStats::local_points)}};
 }
 
+nlohmann::json LoopJson(const std::vector<FrameReport>& reports, const SlamSystem& system) {
+  int relocalised = 0;
+  for (std::size_t i = 1; i < reports.size(); ++i) {
+    relocalised += reports[i - 1].state == TrackState::kLost && reports[i].state == TrackState::kOk;
+  }
+  const std::vector<LoopReport> loops = system.loop_reports();
+  int rejected = 0, consistent = 0;
+  std::vector<double> detect_ms;
+  nlohmann::json closed = nlohmann::json::array();
+  for (const LoopReport& r : loops) {
+    rejected += r.rejected;
+    consistent += r.consistent;
+    detect_ms.push_back(r.detect_ms);
+    if (!r.closed) continue;
+    closed.push_back({{"keyframe", r.keyframe},
+                      {"loop_keyframe", r.loop_keyframe},
+                      {"inliers", r.inliers},
+                      {"moved_m", r.correction_m},
+                      {"turned_deg", r.correction_deg},
+                      {"fused_points", r.fused},
+                      {"graph_keyframes", r.corrected_keyframes},
+                      {"pose_graph_ms", r.pose_graph_ms},
+                      {"correction_ms", r.correct_ms}});
+  }
+  return {{"place_recognition", system.place_recognition()},
+          {"relocalisations", relocalised},
+          {"keyframes_checked", loops.size()},
+          {"consistent_candidates", consistent},
+          {"loops_rejected", rejected},
+          {"loops_closed", closed.size()},
+          {"median_detect_ms", Median(std::move(detect_ms))},
+          {"closed", closed}};
+}
+
 }  // namespace sgslam::app

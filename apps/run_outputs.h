@@ -26,6 +26,8 @@ nlohmann::json WriteSemanticMap(const std::filesystem::path& out, SlamSystem& sy
 nlohmann::json MedianMsJson(const std::vector<FrameReport>& reports, double median_frame_ms);
 nlohmann::json DynamicJson(const std::vector<FrameReport>& reports, const SlamSystem& system);
 nlohmann::json LocalMappingJson(const SlamSystem& system);
+// Place recognition: relocalisations (lost -> tracked), loops checked, rejected, closed.
+nlohmann::json LoopJson(const std::vector<FrameReport>& reports, const SlamSystem& system);
 double MedianFrameMs(const std::vector<FrameReport>& reports);
 
 }  // namespace sgslam::app

@@ -173,7 +173,8 @@ nlohmann::json RunStats(const RunOptions& o, const Config& config, const TumData
                           {"fps", s.fps},
                           {"peak_rss_mib", s.peak_rss_mib},
                           {"dynamic", DynamicJson(loop.reports, system)},
-                          {"local_mapping", LocalMappingJson(system)}};
+                          {"local_mapping", LocalMappingJson(system)},
+                          {"loop", LoopJson(loop.reports, system)}};
   if (nlohmann::json t = truth.RejectionJson(); !t.is_null()) stats["dynamic"]["truth"] = t;
   if (const auto& gba = system.final_ba(); gba && gba->local_keyframes > 0) {
     spdlog::info("final bundle adjustment: {} keyframes, {} points, {:.2f} s", gba->local_keyframes, gba->local_points,

@@ -13,6 +13,7 @@
 #include "sgslam/dynamic/dynamic_config.h"
 #include "sgslam/features/orb_config.h"
 #include "sgslam/io/dataset_config.h"
+#include "sgslam/loop/loop_config.h"
 #include "sgslam/mapping/mapping_config.h"
 #include "sgslam/semantic/semantic_config.h"
 #include "sgslam/tracking/tracking_config.h"
@@ -28,6 +29,7 @@ struct Config {
   DetectorConfig detector;
   DynamicConfig dynamic;
   SemanticConfig semantic;
+  LoopConfig loop;
 
   template <class V>
   void VisitSections(V&& v) {
@@ -39,6 +41,7 @@ struct Config {
     v("detector", detector);
     v("dynamic", dynamic);
     v("semantic", semantic);
+    v("loop", loop);
   }
   template <class V>
   void VisitSections(V&& v) const {

@@ -21,6 +21,7 @@ const char* SectionPurpose(const std::string& section) {
   if (section == "detector") return "The object detection thread and the class table of prior dynamic weights.";
   if (section == "dynamic") return "Dynamic feature rejection (the paper's Algorithm 1) and the RGB-D check.";
   if (section == "semantic") return "The semantic mapping thread: static cloud, OctoMap, 3-D objects.";
+  if (section == "loop") return "Place recognition: relocalisation from the whole map, loop closing.";
   return "";
 }
 
@@ -36,7 +37,8 @@ bool IsBasicKey(const std::string& section, const std::string& key) {
       {"detector", "person_score_threshold"}, {"detector", "detections_file"}, {"detector", "dynamic_weight"},
       {"dynamic", "mode"}, {"dynamic", "eps_std"}, {"dynamic", "depth_check"},
       {"semantic", "enabled"}, {"semantic", "keyframe_model"}, {"semantic", "depth_max"},
-      {"semantic", "cloud_voxel"}, {"semantic", "octomap_resolution"}};
+      {"semantic", "cloud_voxel"}, {"semantic", "octomap_resolution"},
+      {"loop", "enabled"}, {"loop", "vocabulary"}};
   return kBasic.count({section, key}) != 0;
 }
 

@@ -116,6 +116,21 @@ std::vector<std::shared_ptr<KeyFrame>> KeyFrame::CovisiblesWithWeight(int min_we
   return out;
 }
 
+std::vector<std::uint64_t> KeyFrame::ConnectedIds() const {
+  std::vector<std::uint64_t> out;
+  out.reserve(connections_.size());
+  for (const auto& [other, entry] : connections_) out.push_back(other);
+  return out;
+}
+
+std::vector<std::shared_ptr<KeyFrame>> KeyFrame::LoopEdges() const {
+  std::vector<std::shared_ptr<KeyFrame>> out;
+  for (const auto& [other, kf] : loop_edges_) {
+    if (auto k = kf.lock(); k && !k->bad()) out.push_back(std::move(k));
+  }
+  return out;
+}
+
 int KeyFrame::Weight(std::uint64_t other_id) const {
   const auto it = connections_.find(other_id);
   return it == connections_.end() ? 0 : it->second.second;
@@ -140,7 +155,7 @@ void KeyFrame::AddChild(const std::shared_ptr<KeyFrame>& child) { children_[chil
 void KeyFrame::EraseChild(std::uint64_t child_id) { children_.erase(child_id); }
 
 void KeyFrame::SetBad(Map& map) {
-  if (id == 0 || bad_) return;  // the first keyframe anchors the map
+  if (id == 0 || bad_ || !loop_edges_.empty()) return;  // the first keyframe anchors the map; loops hold theirs
   for (const auto& [kf_id, entry] : connections_) {
     if (const auto other = entry.first.lock()) other->EraseConnection(id);
   }

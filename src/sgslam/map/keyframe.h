@@ -16,6 +16,7 @@
 #include "sgslam/common/se3.h"
 #include "sgslam/common/time.h"
 #include "sgslam/map/features.h"
+#include "sgslam/vocab/bow_vector.h"
 
 namespace sgslam {
 
@@ -37,6 +38,11 @@ class KeyFrame : public std::enable_shared_from_this<KeyFrame> {
   // keypoints, corrected again (same count and order).
   void ReplaceFeatures(std::shared_ptr<const Features> corrected);
 
+  // [map] The bag of words of its descriptors (vocab/), set once by local mapping
+  // before the keyframe enters the place-recognition database; null before, and
+  // without a vocabulary. Immutable once set.
+  std::shared_ptr<const vocab::BowData> bow;
+
   // [map] pose.
   const SE3& T_c_w() const { return T_c_w_; }
   SE3 T_w_c() const { return T_c_w_.Inverse(); }
@@ -57,6 +63,14 @@ class KeyFrame : public std::enable_shared_from_this<KeyFrame> {
   std::vector<std::shared_ptr<KeyFrame>> CovisiblesWithWeight(int min_weight) const;
   int Weight(std::uint64_t other_id) const;
   void AddConnection(const std::shared_ptr<KeyFrame>& other, int weight);
+  // Every keyframe with an edge, weak ones too (ORB-SLAM2's GetConnectedKeyFrames).
+  std::vector<std::uint64_t> ConnectedIds() const;
+
+  // [map] Loop edges (a verified loop closed between the two), kept for later
+  // pose-graph optimisations; a keyframe with one is never culled.
+  void AddLoopEdge(const std::shared_ptr<KeyFrame>& other) { loop_edges_[other->id] = other; }
+  std::vector<std::shared_ptr<KeyFrame>> LoopEdges() const;
+  bool has_loop_edges() const { return !loop_edges_.empty(); }
   void EraseConnection(std::uint64_t other_id);
 
   // [map] spanning tree (set by the first UpdateConnections: the best covisible).
@@ -93,6 +107,7 @@ class KeyFrame : public std::enable_shared_from_this<KeyFrame> {
   std::vector<std::pair<int, std::weak_ptr<KeyFrame>>> ordered_;  // weight desc, id asc
   std::weak_ptr<KeyFrame> parent_;
   std::map<std::uint64_t, std::weak_ptr<KeyFrame>> children_;
+  std::map<std::uint64_t, std::weak_ptr<KeyFrame>> loop_edges_;
   bool has_parent_ = false;
   bool bad_ = false;
   SE3 T_c_parent_;

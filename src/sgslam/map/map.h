@@ -42,6 +42,11 @@ class Map {
   const std::map<std::uint64_t, std::shared_ptr<KeyFrame>>& keyframes() const { return keyframes_; }
   const std::map<std::uint64_t, std::shared_ptr<MapPoint>>& map_points() const { return points_; }
 
+  // [map] Loop corrections so far: a pose computed before the count changed is
+  // placed again relative to its reference keyframe.
+  void NoteCorrection() { ++corrections_; }
+  std::uint64_t corrections() const { return corrections_; }
+
   // Breaks every link between entities so that shared ownership cycles cannot leak.
   void Clear();
 
@@ -50,6 +55,7 @@ class Map {
   std::atomic<std::uint64_t> next_keyframe_id_{0}, next_point_id_{0};
   std::map<std::uint64_t, std::shared_ptr<KeyFrame>> keyframes_;
   std::map<std::uint64_t, std::shared_ptr<MapPoint>> points_;
+  std::uint64_t corrections_ = 0;
 };
 
 }  // namespace sgslam

@@ -9,8 +9,9 @@
 
 namespace sgslam {
 
-LocalMapper::LocalMapper(const MappingConfig& config, double close_depth, Map& map)
-    : config_(config), map_(map), th_depth_(close_depth) {}
+LocalMapper::LocalMapper(const MappingConfig& config, double close_depth, Map& map,
+                         std::shared_ptr<KeyFrameDatabase> places)
+    : config_(config), map_(map), places_(std::move(places)), th_depth_(close_depth) {}
 
 MappingStats LocalMapper::Process(const std::shared_ptr<KeyFrame>& kf, const std::function<bool()>& interrupted) {
   Stopwatch watch;
@@ -39,7 +40,10 @@ MappingStats LocalMapper::Process(const std::shared_ptr<KeyFrame>& kf, const std
 }
 
 void LocalMapper::InsertKeyFrame(const std::shared_ptr<KeyFrame>& kf) {
+  // The descriptors never change once the keyframe is here (keyframe.h).
+  const auto bow = places_ ? places_->Describe(kf->features->descriptors) : nullptr;
   std::unique_lock lock(map_.mutex());
+  kf->bow = bow;
   for (std::size_t i = 0; i < kf->map_points().size(); ++i) {
     const auto& p = kf->map_point(i);
     if (!p) continue;
@@ -57,6 +61,7 @@ void LocalMapper::InsertKeyFrame(const std::shared_ptr<KeyFrame>& kf) {
   }
   kf->UpdateConnections();
   map_.AddKeyFrame(kf);
+  if (places_) places_->Add(kf);
 }
 
 int LocalMapper::CullRecentPoints(const std::shared_ptr<KeyFrame>& kf) {
@@ -144,6 +149,7 @@ int LocalMapper::CullKeyFrames(const std::shared_ptr<KeyFrame>& kf) {
     }
     if (points > 0 && redundant > config_.redundant_ratio * points) {
       k->SetBad(map_);
+      if (places_) places_->Erase(*k);
       ++culled;
     }
   }

@@ -1,5 +1,5 @@
 // Local mapping (ORB-SLAM2's LocalMapping, for RGB-D): for each new keyframe,
-// insert it into the map, cull recent points that do not hold up, triangulate new
+// insert it into the map (and the place-recognition database), cull recent points that do not hold up, triangulate new
 // points with covisible keyframes, fuse duplicates, run local bundle adjustment and
 // cull redundant keyframes.
 //
@@ -12,6 +12,7 @@
 #include <list>
 #include <memory>
 
+#include "sgslam/loop/keyframe_database.h"
 #include "sgslam/map/map.h"
 #include "sgslam/mapping/mapping_config.h"
 #include "sgslam/optim/local_ba.h"
@@ -32,7 +33,10 @@ struct MappingStats {
 class LocalMapper {
  public:
   // close_depth: m, the close/far limit of depth points (CameraConfig::close_depth_m).
-  LocalMapper(const MappingConfig& config, double close_depth, Map& map);
+  // places: the place-recognition database each keyframe enters with its bag of
+  // words once inserted, and leaves when culled (null: none).
+  LocalMapper(const MappingConfig& config, double close_depth, Map& map,
+              std::shared_ptr<KeyFrameDatabase> places = nullptr);
 
   // `interrupted` is polled during the expensive steps: true when another
   // keyframe waits, so fusion and BA are skipped or aborted (ORB-SLAM2).
@@ -56,6 +60,7 @@ class LocalMapper {
 
   const MappingConfig config_;
   Map& map_;
+  const std::shared_ptr<KeyFrameDatabase> places_;
   const double th_depth_;  // m, close/far limit of depth points
   std::list<std::shared_ptr<MapPoint>> recent_points_;
 };

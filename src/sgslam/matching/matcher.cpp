@@ -127,6 +127,48 @@ int SearchByProjection(Frame& current, const Frame& last, double radius_px, int 
   return n;
 }
 
+int SearchByProjection(Frame& current, const KeyFrame& keyframe, double radius_px, int max_distance) {
+  const Features& cf = *current.features;
+  const Features& kf = *keyframe.features;
+  const Camera& cam = *cf.camera;
+  const Eigen::Vector3d center = current.center();
+  std::vector<const MapPoint*> have;
+  for (const auto& p : current.map_points) {
+    if (p) have.push_back(p.get());
+  }
+  std::sort(have.begin(), have.end());
+  std::vector<float> diffs;
+  std::vector<std::size_t> matched;
+  int n = 0;
+  for (std::size_t i = 0; i < keyframe.map_points().size(); ++i) {
+    const auto& p = keyframe.map_point(i);
+    if (!p || p->bad() || std::binary_search(have.begin(), have.end(), p.get())) continue;
+    const Eigen::Vector3d p_c = current.T_c_w * p->position();
+    if (p_c.z() <= 0) continue;
+    const Eigen::Vector2d uv = cam.Project(p_c);
+    if (!cf.bounds.Contains(uv.x(), uv.y())) continue;
+    const double distance = (p->position() - center).norm();
+    if (distance < p->min_distance() || distance > p->max_distance()) continue;
+    const int level = p->PredictScale(distance, *cf.scale);
+    const double r = radius_px * cf.scale->scale[static_cast<std::size_t>(level)];
+    Best best;
+    for (std::size_t j : cf.InArea(uv.x(), uv.y(), r, level - 1, level + 1)) {
+      if (current.map_points[j] || current.rejected[j]) continue;
+      best.Offer(features::HammingDistance(p->descriptor(), cf.descriptor(j)), j, cf.keys_un[j].octave);
+    }
+    if (best.index == SIZE_MAX || best.dist > max_distance) continue;
+    current.map_points[best.index] = p;
+    diffs.push_back(kf.keys[i].angle - cf.keys[best.index].angle);
+    matched.push_back(best.index);
+    ++n;
+  }
+  for (std::size_t k : RotationOutliers(diffs)) {
+    current.map_points[matched[k]].reset();
+    --n;
+  }
+  return n;
+}
+
 int SearchLocalPoints(Frame& current, const std::vector<std::shared_ptr<MapPoint>>& points, double th,
                       int rejected_distance) {
   const Features& cf = *current.features;
@@ -158,26 +200,33 @@ int SearchLocalPoints(Frame& current, const std::vector<std::shared_ptr<MapPoint
   return n;
 }
 
-int SearchByDescriptor(const KeyFrame& keyframe, Frame& current, double ratio) {
+namespace {
+
+// The keyframe's mapped keypoints matched to the frame's kept keypoints that
+// candidates(i) lists for keypoint i: best distance below kThLow and below ratio
+// times the second best, the closest claim on each frame keypoint, then rotation
+// consistency. Sets current.map_points; returns the matches.
+template <typename Candidates>
+int MatchKeyFrameToFrame(const KeyFrame& keyframe, Frame& current, double ratio, Candidates candidates) {
   const Features& kf = *keyframe.features;
   const Features& cf = *current.features;
-  std::vector<float> diffs;
-  std::vector<std::size_t> matched;
   std::vector<int> best_for_current(cf.size(), 257);
   std::vector<std::size_t> source(cf.size(), SIZE_MAX);
-  for (std::size_t i = 0; i < kf.size(); ++i) {
+  candidates([&](std::size_t i, const auto& js) {
     const auto& p = keyframe.map_point(i);
-    if (!p || p->bad()) continue;
+    if (!p || p->bad()) return;
     Best best;
-    for (std::size_t j = 0; j < cf.size(); ++j) {
+    for (const std::size_t j : js) {
       if (current.rejected[j]) continue;
       best.Offer(features::HammingDistance(kf.descriptor(i), cf.descriptor(j)), j, 0);
     }
-    if (best.dist > kThLow || best.dist > ratio * best.second) continue;
-    if (best.dist >= best_for_current[best.index]) continue;  // keep the closest claim
+    if (best.index == SIZE_MAX || best.dist > kThLow || best.dist > ratio * best.second) return;
+    if (best.dist >= best_for_current[best.index]) return;  // keep the closest claim
     best_for_current[best.index] = best.dist;
     source[best.index] = i;
-  }
+  });
+  std::vector<float> diffs;
+  std::vector<std::size_t> matched;
   int n = 0;
   for (std::size_t j = 0; j < cf.size(); ++j) {
     if (source[j] == SIZE_MAX) continue;
@@ -191,6 +240,47 @@ int SearchByDescriptor(const KeyFrame& keyframe, Frame& current, double ratio) {
     --n;
   }
   return n;
+}
+
+// 0, 1, ..., n - 1 without storing them.
+struct Indices {
+  std::size_t n;
+  struct It {
+    std::size_t i;
+    std::size_t operator*() const { return i; }
+    It& operator++() { return ++i, *this; }
+    bool operator!=(const It& o) const { return i != o.i; }
+  };
+  It begin() const { return {0}; }
+  It end() const { return {n}; }
+};
+
+}  // namespace
+
+int SearchByDescriptor(const KeyFrame& keyframe, Frame& current, double ratio) {
+  const Indices all{current.features->size()};
+  return MatchKeyFrameToFrame(keyframe, current, ratio, [&](const auto& visit) {
+    for (std::size_t i = 0; i < keyframe.features->size(); ++i) visit(i, all);
+  });
+}
+
+int SearchByBow(const KeyFrame& keyframe, Frame& current, const vocab::FeatureVector& current_nodes, double ratio) {
+  if (!keyframe.bow) return 0;
+  const vocab::FeatureVector& kf_nodes = keyframe.bow->nodes;
+  return MatchKeyFrameToFrame(keyframe, current, ratio, [&](const auto& visit) {
+    auto a = kf_nodes.begin();
+    auto b = current_nodes.begin();
+    while (a != kf_nodes.end() && b != current_nodes.end()) {
+      if (a->first < b->first) {
+        ++a;
+      } else if (b->first < a->first) {
+        ++b;
+      } else {
+        for (const std::uint32_t i : a->second) visit(i, b->second);
+        ++a, ++b;
+      }
+    }
+  });
 }
 
 }  // namespace sgslam::matcher

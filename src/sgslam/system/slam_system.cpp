@@ -13,11 +13,14 @@
 #include "sgslam/common/stats.h"
 #include "sgslam/detection/darknet_model.h"
 #include "sgslam/detection/dnn_detector.h"
+#include "sgslam/loop/vocabulary_file.h"
 #include "sgslam/map/map_check.h"
 
 namespace sgslam {
 
 namespace {
+
+constexpr std::size_t kLoopQueueSize = 16;  // keyframes waiting for loop detection (a few ms each)
 
 // The map starts on a frame with min_init_points keypoints with depth, but never
 // needs more than half the ORB budget: not every keypoint has depth (ORB-SLAM2 asks
@@ -56,9 +59,11 @@ SlamSystem::SlamSystem(const Config& config, bool sequential, std::unique_ptr<De
       scale_(std::make_shared<ScaleLevels>(features::MakeScaleLevels(config.orb.scale_factor, config.orb.levels))),
       extractor_(config.orb),
       dynamic_(config.dynamic, config.detector, camera_, std::move(detector), sequential),
-      tracker_(TrackingSection(config), config.camera, map_),
-      mapper_(config.mapping, config.camera.close_depth_m(), map_),
-      queue_(static_cast<std::size_t>(config.mapping.queue_size)) {
+      places_(MakeKeyFrameDatabase(config.loop)),
+      tracker_(TrackingSection(config), config.camera, map_, places_),
+      mapper_(config.mapping, config.camera.close_depth_m(), map_, places_),
+      queue_(static_cast<std::size_t>(config.mapping.queue_size)),
+      loop_queue_(kLoopQueueSize) {
   // OpenCV's own worker threads (resize, blur, LK) would compete with local mapping
   // for the second core in every mode, not only when the detector sets it.
   if (config.detector.threads > 0) cv::setNumThreads(config.detector.threads);
@@ -70,7 +75,11 @@ SlamSystem::SlamSystem(const Config& config, bool sequential, std::unique_ptr<De
     semantic_ = std::make_unique<SemanticMapper>(config.semantic, camera_, ClassTable(config.detector), map_,
                                                  sequential, MakeKeyFrameDetector(config, dynamic_.has_detector()));
   }
-  if (!sequential_) mapping_thread_ = std::thread([this] { MappingLoop(); });
+  if (places_) loop_ = std::make_unique<LoopCloser>(map_, places_);
+  if (!sequential_) {
+    mapping_thread_ = std::thread([this] { MappingLoop(); });
+    if (loop_) loop_thread_ = std::thread([this] { LoopClosingLoop(); });
+  }
 }
 
 // Destroyed without Finish() (an error unwinding the run): stop the threads, but
@@ -81,14 +90,55 @@ void SlamSystem::Finish() { Stop(/*final_ba=*/true); }
 
 void SlamSystem::HandOver(SemanticInput item) {
   if (sequential_) {
-    {
-      std::lock_guard lock(stats_mutex_);
-      mapping_stats_.push_back(mapper_.Process(item.keyframe, [] { return false; }));
-    }
-    ToSemantic(std::move(item));
+    MapKeyFrame(std::move(item), [] { return false; });
   } else {
     queue_.Push(std::move(item));
   }
+}
+
+void SlamSystem::MapKeyFrame(SemanticInput item, const std::function<bool()>& interrupted) {
+  MappingStats stats;
+  {
+    std::lock_guard step(mapping_step_mutex_);
+    stats = mapper_.Process(item.keyframe, interrupted);
+  }
+  {
+    std::lock_guard lock(stats_mutex_);
+    mapping_stats_.push_back(stats);
+  }
+  const std::shared_ptr<KeyFrame> kf = item.keyframe;
+  ToSemantic(std::move(item));
+  if (!loop_) return;
+  if (sequential_) {
+    CloseLoops(kf);
+  } else {
+    loop_queue_.Push(kf);
+  }
+}
+
+void SlamSystem::CloseLoops(const std::shared_ptr<KeyFrame>& kf) {
+  LoopReport report;
+  if (const std::optional<VerifiedLoop> loop = loop_->Detect(kf, report)) {
+    std::lock_guard step(mapping_step_mutex_);  // local mapping waits (its BA must not undo the correction)
+    loop_->Correct(*loop, report);
+  }
+  if (report.closed) {
+    spdlog::info("loop closed: keyframe {} sees keyframe {} again ({} inliers); moved {:.3f} m, {:.2f} deg; "
+                 "{} keyframes in the pose graph, {:.0f} ms",
+                 report.keyframe, report.loop_keyframe, report.inliers, report.correction_m, report.correction_deg,
+                 report.corrected_keyframes, report.correct_ms);
+  }
+  std::lock_guard lock(stats_mutex_);
+  loop_reports_.push_back(report);
+}
+
+void SlamSystem::LoopClosingLoop() {
+  while (auto kf = loop_queue_.Pop()) CloseLoops(*kf);
+}
+
+std::vector<LoopReport> SlamSystem::loop_reports() const {
+  std::lock_guard lock(stats_mutex_);
+  return loop_reports_;
 }
 
 void SlamSystem::Stop(bool final_ba) {
@@ -99,6 +149,8 @@ void SlamSystem::Stop(bool final_ba) {
   waiting_.reset();
   queue_.Shutdown();  // the thread drains what is queued, then exits
   if (mapping_thread_.joinable()) mapping_thread_.join();
+  loop_queue_.Shutdown();  // after local mapping: nothing feeds it any more
+  if (loop_thread_.joinable()) loop_thread_.join();
   // With every keyframe mapped, one bundle adjustment of the whole map (what
   // ORB-SLAM2 runs after a loop closure). The trajectory is exported relative to
   // the keyframes, so it follows; so do the semantic cloud and objects.
@@ -109,12 +161,7 @@ void SlamSystem::Stop(bool final_ba) {
 void SlamSystem::MappingLoop() {
   while (auto item = queue_.Pop()) {
     mapping_busy_ = true;
-    const MappingStats stats = mapper_.Process(item->keyframe, [this] { return queue_.size() > 0; });
-    {
-      std::lock_guard lock(stats_mutex_);
-      mapping_stats_.push_back(stats);
-    }
-    ToSemantic(std::move(*item));
+    MapKeyFrame(std::move(*item), [this] { return queue_.size() > 0; });
     mapping_busy_ = false;
   }
 }
@@ -219,10 +266,8 @@ void SlamSystem::RecordPoses(const Frame& frame, const TrackResult& result) {
     PoseRecord& r = records_.back();
     r.T_c_r = result.previous_refined->T_c_w * r.reference->T_w_c();
   }
-  if (result.state == TrackState::kOk && frame.reference_kf) {
-    std::shared_lock lock(map_.mutex());
-    records_.push_back({frame.id, frame.t, frame.reference_kf, frame.T_c_w * frame.reference_kf->T_w_c(),
-                        frame.T_c_w.Inverse()});
+  if (result.state == TrackState::kOk && result.reference) {
+    records_.push_back({frame.id, frame.t, result.reference, result.T_c_r, frame.T_c_w.Inverse()});
   }
 }
 

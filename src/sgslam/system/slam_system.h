@@ -1,13 +1,17 @@
-// The SLAM system facade: owns the map, the tracker, local mapping and its thread,
-// and turns RGB-D images into poses. In sequential mode every module is stepped
-// in the caller's thread, so output is identical on every run; otherwise local
-// mapping runs on its own thread fed by a bounded keyframe queue.
+// The SLAM system facade: owns the map, the tracker, local mapping and loop
+// closing with their threads, and turns RGB-D images into poses. In sequential
+// mode every module is stepped in the caller's thread, so output is identical on
+// every run; otherwise local mapping runs on its own thread fed by a bounded
+// keyframe queue, and hands each keyframe it finished to the loop thread. A loop
+// correction pauses local mapping by taking the mutex local mapping holds while
+// it works on a keyframe (mapping_step_mutex_, taken before the map's lock).
 //
 // Threading: Process() and the result accessors are called from one thread; the
 // snapshot accessors (LatestFrame, SnapshotMap) from any thread.
 #pragma once
 
 #include <atomic>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -19,6 +23,7 @@
 #include "sgslam/features/orb_extractor.h"
 #include "sgslam/io/trajectory.h"
 #include "sgslam/io/tum_dataset.h"
+#include "sgslam/loop/loop_closer.h"
 #include "sgslam/map/map.h"
 #include "sgslam/mapping/local_mapper.h"
 #include "sgslam/semantic/semantic_mapper.h"
@@ -78,6 +83,9 @@ class SlamSystem {
   std::vector<MappingStats> mapping_stats() const;
   // The global bundle adjustment Finish() ran (mapping.final_ba_iterations > 0).
   const std::optional<MappingStats>& final_ba() const { return final_ba_; }
+  // One report per keyframe the loop closer looked at (loop.enabled).
+  std::vector<LoopReport> loop_reports() const;
+  bool place_recognition() const { return places_ != nullptr; }
   DetectionWorkerStats detector_stats() const { return dynamic_.detector_stats(); }
 
   // The semantic map (semantic.enabled), after Finish(): the static dense cloud in
@@ -110,6 +118,10 @@ class SlamSystem {
                          FrameReport& report);
   void PublishFrame(const Frame& frame, const RgbdImages& images, const FrameReport& report);
   void MappingLoop();
+  void LoopClosingLoop();
+  // Local mapping of one keyframe, then the semantic thread and loop closing.
+  void MapKeyFrame(SemanticInput item, const std::function<bool()>& interrupted);
+  void CloseLoops(const std::shared_ptr<KeyFrame>& kf);
   void Stop(bool final_ba);
   void ToSemantic(SemanticInput item);
   // A new keyframe to local mapping (at once when sequential), then to the semantic thread.
@@ -122,6 +134,7 @@ class SlamSystem {
   features::OrbExtractor extractor_;
   DynamicStage dynamic_;
   Map map_;
+  std::shared_ptr<KeyFrameDatabase> places_;  // place recognition (loop.enabled), else null
   Tracker tracker_;
   LocalMapper mapper_;
 
@@ -144,6 +157,11 @@ class SlamSystem {
   std::vector<MappingStats> mapping_stats_;  // guarded by stats_mutex_
   std::optional<MappingStats> final_ba_;     // set by Finish() when mapping.final_ba_iterations > 0
   std::thread mapping_thread_;
+  std::unique_ptr<LoopCloser> loop_;  // with place recognition
+  BoundedQueue<std::shared_ptr<KeyFrame>> loop_queue_;
+  std::mutex mapping_step_mutex_;  // local mapping holds it per keyframe; a loop correction pauses it with it
+  std::vector<LoopReport> loop_reports_;  // guarded by stats_mutex_
+  std::thread loop_thread_;
   bool finished_ = false;
   std::atomic<bool> snapshots_{false};
   mutable std::mutex frame_snapshot_mutex_;  // guards latest_frame_

@@ -40,8 +40,9 @@ bool Tracker::NeedNewKeyFrame(const Frame& frame, int inliers, bool mapping_idle
   return (c1a || c1b || c1c) && c2;
 }
 
-std::shared_ptr<KeyFrame> Tracker::CreateKeyFrame(Frame& frame) {
+std::shared_ptr<KeyFrame> Tracker::CreateKeyFrame(Frame& frame, const SE3& T_c_r, std::uint64_t corrections) {
   std::unique_lock lock(map_.mutex());
+  if (map_.corrections() != corrections) frame.T_c_w = T_c_r * reference_kf_->T_c_w();  // a loop was closed since
   auto kf = std::make_shared<KeyFrame>(map_.NewKeyFrameId(), frame.id, frame.t, frame.features, frame.T_c_w);
   // Matched points join the keyframe now; local mapping adds the observations.
   for (std::size_t i = 0; i < frame.map_points.size(); ++i) {

@@ -41,11 +41,13 @@ const char* ToString(TrackState state) {
   return "?";
 }
 
-Tracker::Tracker(const TrackingConfig& config, const CameraConfig& camera, Map& map)
+Tracker::Tracker(const TrackingConfig& config, const CameraConfig& camera, Map& map,
+                 std::shared_ptr<const KeyFrameDatabase> places)
     : config_(config),
       camera_(camera),
       trust_{config.trust_delay, config.trust_hits, config.trust_min_points},
       map_(map),
+      places_(std::move(places)),
       th_depth_(camera.close_depth_m()) {}
 
 TrackResult Tracker::Track(Frame& frame, bool mapping_idle, bool mapping_full) {
@@ -60,6 +62,7 @@ TrackResult Tracker::Track(Frame& frame, bool mapping_idle, bool mapping_full) {
   }
 
   bool ok = false;
+  std::uint64_t corrections = 0;
   {
     std::shared_lock lock(map_.mutex());
     // Local BA may have moved the last frame's reference keyframe since: keep the
@@ -71,9 +74,14 @@ TrackResult Tracker::Track(Frame& frame, bool mapping_idle, bool mapping_full) {
       ok = (has_velocity_ && TrackWithMotionModel(frame, result)) ||
            TrackReferenceKeyFrame(frame, reference_kf_, result);
     } else {
-      ok = Recover(frame, result);
+      ok = places_ ? Relocalise(frame, result) : Recover(frame, result);
     }
     if (ok) ok = TrackLocalMap(frame, result);
+    if (ok) {
+      result.reference = reference_kf_;
+      result.T_c_r = frame.T_c_w * reference_kf_->T_w_c();
+    }
+    corrections = map_.corrections();
   }
   // The last frame's keyframe, corrected with this frame's pose; this frame is then
   // fitted again to its corrected points.
@@ -81,6 +89,8 @@ TrackResult Tracker::Track(Frame& frame, bool mapping_idle, bool mapping_full) {
     if (ok && before_last_ && CorrectWaitingKeyFrame(waiting_, *before_last_, frame)) {
       std::shared_lock lock(map_.mutex());
       OptimizePose(frame);
+      result.T_c_r = frame.T_c_w * reference_kf_->T_w_c();
+      corrections = map_.corrections();
     }
     waiting_.reset();
   }
@@ -109,14 +119,14 @@ TrackResult Tracker::Track(Frame& frame, bool mapping_idle, bool mapping_full) {
     need_keyframe = NeedNewKeyFrame(frame, result.inliers, mapping_idle, mapping_full);
   }
   if (need_keyframe) {
-    result.new_keyframe = CreateKeyFrame(frame);
+    result.new_keyframe = CreateKeyFrame(frame, result.T_c_r, corrections);
+    result.reference = result.new_keyframe;
+    result.T_c_r = SE3();
     // Its frame before is last_frame_, which becomes before_last_ below.
     if (KeyFramesWait() && last_frame_.has_pose && last_frame_.id + 1 == frame.id) waiting_ = result.new_keyframe;
   }
-  {
-    std::shared_lock lock(map_.mutex());
-    last_T_c_r_ = frame.T_c_w * frame.reference_kf->T_w_c();
-  }
+  frame.reference_kf = result.reference;
+  last_T_c_r_ = result.T_c_r;
   // Outliers of this frame must not seed the next frame's motion search.
   DiscardOutliers(frame);
   before_last_.reset();
@@ -230,6 +240,7 @@ bool Tracker::Initialize(Frame& frame, TrackResult& result) {
   frame.reference_kf = kf;
   last_keyframe_frame_id_ = frame.id;
   result.new_keyframe = kf;
+  result.reference = kf;
   result.inliers = kf->TrackedMapPoints(1);
   // The first keyframe's keypoints had no velocity to be corrected with: it waits
   // for the next frame too, and gets the angular velocity of the step to it.
@@ -331,6 +342,65 @@ bool Tracker::Recover(Frame& frame, TrackResult& result) {
     return true;
   }
   return false;
+}
+
+namespace {
+// ORB-SLAM2's relocalisation thresholds.
+constexpr int kRelocMinBowMatches = 15;
+constexpr double kRelocBowRatio = 0.75;
+constexpr int kRelocPnpMinInliers = 10;
+constexpr int kRelocGoodInliers = 50;
+constexpr int kRelocCandidates = 20;  // tried per frame, best pools first (bounds a lost frame's time)
+}  // namespace
+
+bool Tracker::Relocalise(Frame& frame, TrackResult& result) {
+  const auto bow = places_->Describe(frame.features->descriptors);
+  const std::vector<PlaceCandidate> candidates = places_->RelocalisationCandidates(bow->words);
+  int tried = 0;
+  for (const PlaceCandidate& c : candidates) {
+    if (c.keyframe->bad()) continue;
+    if (++tried > kRelocCandidates) break;
+    if (!RelocaliseWith(frame, *c.keyframe, *bow)) continue;
+    reference_kf_ = c.keyframe;
+    result.matches = static_cast<int>(std::count_if(frame.map_points.begin(), frame.map_points.end(),
+                                                    [](const auto& p) { return p != nullptr; }));
+    spdlog::debug("frame {}: relocalised on keyframe {} ({} candidates)", frame.id, c.keyframe->id, candidates.size());
+    return true;
+  }
+  return false;
+}
+
+bool Tracker::RelocaliseWith(Frame& frame, const KeyFrame& candidate, const vocab::BowData& bow) {
+  std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
+  if (matcher::SearchByBow(candidate, frame, bow.nodes, kRelocBowRatio) < kRelocMinBowMatches) return false;
+  const Features& f = *frame.features;
+  std::vector<cv::Point3f> object;
+  std::vector<cv::Point2f> image;
+  for (std::size_t i = 0; i < frame.map_points.size(); ++i) {
+    if (!frame.map_points[i]) continue;
+    const Eigen::Vector3d p = frame.map_points[i]->position();
+    object.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+    image.push_back(f.keys_un[i].pt);
+  }
+  const Camera& cam = *f.camera;
+  const geometry::Pinhole K{cam.fx(), cam.fy(), cam.cx(), cam.cy()};
+  const std::optional<SE3> T_c_w = geometry::SolvePnP(object, image, K, {300, 2.5, kRelocPnpMinInliers});
+  if (!T_c_w) return false;
+  frame.T_c_w = *T_c_w;
+  int inliers = OptimizePose(frame);
+  DiscardOutliers(frame);
+  if (inliers < kRelocPnpMinInliers) return false;
+  // Too few: more of the candidate's points by projection, wide then narrow.
+  if (inliers < kRelocGoodInliers &&
+      inliers + matcher::SearchByProjection(frame, candidate, 10, 100) >= kRelocGoodInliers) {
+    inliers = OptimizePose(frame);
+    if (inliers > 30 && inliers < kRelocGoodInliers &&
+        inliers + matcher::SearchByProjection(frame, candidate, 3, 64) >= kRelocGoodInliers) {
+      inliers = OptimizePose(frame);
+    }
+    DiscardOutliers(frame);
+  }
+  return inliers >= kRelocGoodInliers;
 }
 
 bool Tracker::TrackLocalMap(Frame& frame, TrackResult& result) {

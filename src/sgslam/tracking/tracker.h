@@ -14,6 +14,7 @@
 
 #include "sgslam/camera/rolling_shutter.h"
 #include "sgslam/camera/camera_config.h"
+#include "sgslam/loop/keyframe_database.h"
 #include "sgslam/map/frame.h"
 #include "sgslam/map/map.h"
 #include "sgslam/tracking/local_map.h"
@@ -31,6 +32,8 @@ struct TrackResult {
   int inliers = 0;  // after it
   int trusted = 0;  // of the inliers, map points trusted to set the pose (trusted_pose.h)
   std::shared_ptr<KeyFrame> new_keyframe;  // for local mapping, when one was made
+  std::shared_ptr<KeyFrame> reference;     // the frame's reference keyframe (state ok)
+  SE3 T_c_r;                               // the frame's pose relative to it, as tracked
   // tracking.frame_velocity_central: the previous frame's pose fitted again once
   // this frame's pose is known (Tracker::RefinePrevious); for the exported
   // trajectory only, tracking goes on from the pose it had.
@@ -44,8 +47,11 @@ struct TrackResult {
 class Tracker {
  public:
   // config.min_init_points is taken as it is (the system caps it at half the ORB
-  // budget); camera: the frame rate, the rolling-shutter readout, the close range.
-  Tracker(const TrackingConfig& config, const CameraConfig& camera, Map& map);
+  // budget); camera: the frame rate, the rolling-shutter readout, the close range;
+  // places: the place-recognition database a lost camera is relocalised with
+  // (null: only keyframes near its last pose are tried).
+  Tracker(const TrackingConfig& config, const CameraConfig& camera, Map& map,
+          std::shared_ptr<const KeyFrameDatabase> places = nullptr);
 
   // mapping_idle / mapping_full: whether local mapping is free, and whether its
   // queue is full (no keyframe is made then); the keyframe decision takes both
@@ -85,6 +91,10 @@ class Tracker {
   bool TrackWithMotionModel(Frame& frame, TrackResult& result);
   bool TrackReferenceKeyFrame(Frame& frame, const std::shared_ptr<KeyFrame>& keyframe, TrackResult& result);
   bool Recover(Frame& frame, TrackResult& result);
+  // ORB-SLAM2's relocalisation: candidates from the place-recognition database,
+  // bag-of-words matching, PnP RANSAC, pose optimisation and a guided search.
+  bool Relocalise(Frame& frame, TrackResult& result);
+  bool RelocaliseWith(Frame& frame, const KeyFrame& candidate, const vocab::BowData& bow);
   bool TrackLocalMap(Frame& frame, TrackResult& result);
   // With a rolling-shutter camera: fits the frame's pose and angular velocity
   // together on its inliers (the prediction lags by a frame), corrects its
@@ -95,7 +105,9 @@ class Tracker {
   int OptimizePose(Frame& frame);
   static void DiscardOutliers(Frame& frame);
   bool NeedNewKeyFrame(const Frame& frame, int inliers, bool mapping_idle, bool mapping_full) const;
-  std::shared_ptr<KeyFrame> CreateKeyFrame(Frame& frame);
+  // T_c_r: the frame relative to reference_kf_ as tracked; corrections: the map's
+  // loop corrections then (a correction since moves the frame with its reference).
+  std::shared_ptr<KeyFrame> CreateKeyFrame(Frame& frame, const SE3& T_c_r, std::uint64_t corrections);
   // Creates map points from the depth of keypoints without one (close first).
   int AddDepthPoints(Frame& frame, const std::shared_ptr<KeyFrame>& kf, bool all);
 
@@ -103,6 +115,7 @@ class Tracker {
   const CameraConfig camera_;
   const TrustOptions trust_;
   Map& map_;
+  const std::shared_ptr<const KeyFrameDatabase> places_;
   LocalMap local_map_;
   TrackState state_ = TrackState::kNotInitialized;
   Frame last_frame_;

@@ -1,0 +1,336 @@
+#include "sgslam/loop/loop_closer.h"
+
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+#include <shared_mutex>
+
+#include <spdlog/spdlog.h>
+
+#include "sgslam/common/stats.h"
+#include "sgslam/geometry/rigid.h"
+#include "sgslam/matching/matcher.h"
+#include "sgslam/optim/pose_graph.h"
+#include "sgslam/optim/pose_optimizer.h"
+
+namespace sgslam {
+
+namespace {
+
+constexpr double kBowRatio = 0.75;            // SearchByBow's best/second ratio (ORB-SLAM2)
+constexpr double kLoopSearchRadius = 10;      // px at level 0, the neighbourhood's points
+constexpr double kFuseRadius = 4;             // px at level 0, loop fusion
+constexpr int kEssentialCovisibility = 100;   // shared points for a covisibility edge in the graph
+constexpr double kChi2Rigid = 9.210;          // 99 % of chi2 with 2 dof
+
+geometry::Pinhole PinholeOf(const KeyFrame& kf) {
+  const Camera& c = *kf.features->camera;
+  return {c.fx(), c.fy(), c.cx(), c.cy()};
+}
+
+double Sigma2(const KeyFrame& kf, std::size_t i) {
+  const Features& f = *kf.features;
+  return f.scale->sigma2[static_cast<std::size_t>(f.keys_un[i].octave)];
+}
+
+// The points of a keyframe and its covisible neighbours, each once.
+std::vector<std::shared_ptr<MapPoint>> NeighbourhoodPoints(const std::shared_ptr<KeyFrame>& kf) {
+  std::vector<std::shared_ptr<MapPoint>> out;
+  std::set<std::uint64_t> seen;
+  std::vector<std::shared_ptr<KeyFrame>> group = kf->Covisibles();
+  group.insert(group.begin(), kf);
+  for (const auto& k : group) {
+    for (const auto& p : k->map_points()) {
+      if (p && !p->bad() && seen.insert(p->id).second) out.push_back(p);
+    }
+  }
+  return out;
+}
+
+// The relative pose T_i_j of two poses T_i_w and T_j_w.
+SE3 Relative(const SE3& T_i_w, const SE3& T_j_w) { return T_i_w * T_j_w.Inverse(); }
+
+}  // namespace
+
+std::optional<VerifiedLoop> LoopCloser::Detect(const std::shared_ptr<KeyFrame>& kf, LoopReport& report) {
+  const Stopwatch watch;
+  report.keyframe = kf->id;
+  std::shared_lock lock(map_.mutex());
+  if (kf->bad() || !kf->bow || map_.keyframes().size() < kMinKeyFrames ||
+      (loops_closed_ > 0 && kf->id < last_loop_kf_ + kMinKeyFrames)) {
+    return std::nullopt;
+  }
+  // The worst score of a neighbour: a loop candidate must look at least as alike.
+  double min_score = 1;
+  for (const auto& n : kf->Covisibles()) {
+    if (n->bow) min_score = std::min(min_score, vocab::Score(kf->bow->words, n->bow->words));
+  }
+  const std::vector<PlaceCandidate> candidates = places_->LoopCandidates(*kf, min_score);
+  report.candidates = static_cast<int>(candidates.size());
+  const std::vector<std::shared_ptr<KeyFrame>> consistent = ConsistentCandidates(candidates);
+  report.consistent = static_cast<int>(consistent.size());
+  std::optional<VerifiedLoop> loop;
+  for (const auto& candidate : consistent) {
+    loop = Verify(kf, candidate);
+    if (loop) break;
+    ++report.rejected;
+  }
+  if (report.rejected > 0) {
+    spdlog::debug("keyframe {}: {} consistent loop candidate(s) failed geometric verification", kf->id,
+                  report.rejected);
+  }
+  report.detect_ms = watch.ElapsedMs();
+  if (loop) report.inliers = loop->inliers, report.loop_keyframe = loop->loop->id;
+  return loop;
+}
+
+std::vector<std::shared_ptr<KeyFrame>> LoopCloser::ConsistentCandidates(const std::vector<PlaceCandidate>& candidates) {
+  std::vector<std::shared_ptr<KeyFrame>> enough;
+  std::vector<Group> current;
+  std::vector<bool> continued(groups_.size(), false);
+  for (const PlaceCandidate& c : candidates) {
+    const std::vector<std::uint64_t> ids = c.keyframe->ConnectedIds();
+    std::set<std::uint64_t> group(ids.begin(), ids.end());
+    group.insert(c.keyframe->id);
+    bool consistent_with_some = false, added = false;
+    for (std::size_t g = 0; g < groups_.size(); ++g) {
+      const auto& previous = groups_[g].first;
+      const bool shares = std::any_of(group.begin(), group.end(), [&](std::uint64_t id) { return previous.count(id); });
+      if (!shares) continue;
+      consistent_with_some = true;
+      const int consistency = groups_[g].second + 1;
+      if (!continued[g]) {
+        current.emplace_back(group, consistency);
+        continued[g] = true;
+      }
+      if (consistency >= kConsistency && !added) {
+        enough.push_back(c.keyframe);
+        added = true;
+      }
+    }
+    if (!consistent_with_some) current.emplace_back(group, 0);
+  }
+  groups_ = std::move(current);
+  return enough;
+}
+
+std::optional<VerifiedLoop> LoopCloser::Verify(const std::shared_ptr<KeyFrame>& kf,
+                                               const std::shared_ptr<KeyFrame>& candidate) {
+  std::vector<std::shared_ptr<MapPoint>> matched = matcher::SearchByBow(*kf, *candidate, kBowRatio);
+  geometry::RigidRansacProblem problem{{}, PinholeOf(*kf), PinholeOf(*candidate)};
+  std::vector<std::size_t> index;
+  for (std::size_t i = 0; i < matched.size(); ++i) {
+    const auto& own = kf->map_point(i);
+    if (!matched[i] || !own || own->bad()) continue;
+    const int j = matched[i]->IndexIn(candidate->id);
+    if (j < 0) continue;
+    const auto& k1 = kf->features->keys_un[i].pt;
+    const auto& k2 = candidate->features->keys_un[static_cast<std::size_t>(j)].pt;
+    problem.matches.push_back({kf->T_c_w() * own->position(), candidate->T_c_w() * matched[i]->position(),
+                               {k1.x, k1.y}, {k2.x, k2.y}, kChi2Rigid * Sigma2(*kf, i),
+                               kChi2Rigid * Sigma2(*candidate, static_cast<std::size_t>(j))});
+    index.push_back(i);
+  }
+  spdlog::debug("loop check {} -> {}: {} bow matches", kf->id, candidate->id, problem.matches.size());
+  if (static_cast<int>(problem.matches.size()) < kMinBowMatches) return std::nullopt;
+  geometry::RigidRansacOptions options;
+  options.min_inliers = kMinBowMatches;
+  options.seed = static_cast<std::uint32_t>(kf->id);
+  const auto rigid = geometry::EstimateRigidRansac(problem, options);
+  if (!rigid) return std::nullopt;
+  spdlog::debug("  ransac {} inliers", rigid->inliers);
+  // Only the RANSAC's inliers, then the keyframe's pose fitted to the loop side's points.
+  std::vector<std::shared_ptr<MapPoint>> kept(matched.size());
+  for (std::size_t m = 0; m < index.size(); ++m) {
+    if (rigid->inlier[m]) kept[index[m]] = matched[index[m]];
+  }
+  SE3 T_c_w = rigid->T_12 * candidate->T_c_w();
+  if (FitPose(*kf, kept, T_c_w) < kMinBowMatches) return std::nullopt;
+  // More matches from the candidate's neighbourhood, at that pose; a last fit.
+  VerifiedLoop loop{kf, candidate, T_c_w, std::move(kept), NeighbourhoodPoints(candidate), 0};
+  matcher::SearchByProjection(*kf, loop.T_c_w, loop.loop_points, loop.matched, kLoopSearchRadius);
+  loop.inliers = FitPose(*kf, loop.matched, loop.T_c_w);
+  spdlog::debug("  final {} inliers", loop.inliers);
+  if (loop.inliers < kMinLoopInliers) return std::nullopt;
+  return loop;
+}
+
+int LoopCloser::FitPose(const KeyFrame& kf, std::vector<std::shared_ptr<MapPoint>>& matched, SE3& T_c_w) {
+  const Features& f = *kf.features;
+  std::vector<optim::PoseObservation> obs;
+  std::vector<std::size_t> index;
+  for (std::size_t i = 0; i < matched.size(); ++i) {
+    if (!matched[i]) continue;
+    optim::PoseObservation o;
+    o.p_w = matched[i]->position();
+    o.uv = {f.keys_un[i].pt.x, f.keys_un[i].pt.y};
+    o.u_right = f.u_right[i];
+    o.inv_sigma2 = f.scale->inv_sigma2[static_cast<std::size_t>(f.keys_un[i].octave)];
+    obs.push_back(o);
+    index.push_back(i);
+  }
+  if (obs.size() < 3) return 0;
+  const Camera& c = *f.camera;
+  const auto r = optim::OptimizePose(T_c_w, obs, {c.fx(), c.fy(), c.cx(), c.cy(), c.baseline_fx()});
+  T_c_w = r.T_c_w;
+  for (std::size_t k = 0; k < index.size(); ++k) {
+    if (!r.inlier[k]) matched[index[k]].reset();
+  }
+  return r.inliers;
+}
+
+void LoopCloser::Correct(const VerifiedLoop& loop, LoopReport& report) {
+  const Stopwatch watch;
+  std::unique_lock lock(map_.mutex());
+  const auto& current = loop.current;
+  if (current->bad() || loop.loop->bad()) {
+    ++report.rejected;  // culled while it was verified
+    return;
+  }
+  current->UpdateConnections();
+  std::vector<std::shared_ptr<KeyFrame>> connected = current->Covisibles();
+  connected.insert(connected.begin(), current);
+  // Keyframes tracking made that local mapping has not inserted: their points are
+  // in the map, they are not (yet).
+  std::vector<std::shared_ptr<KeyFrame>> pending;
+  std::set<std::uint64_t> pending_ids;
+  for (const auto& [id, p] : map_.map_points()) {
+    for (const auto& [kf_id, obs] : p->observations()) {
+      if (map_.keyframes().count(kf_id) || pending_ids.count(kf_id)) continue;
+      if (auto k = obs.keyframe.lock(); k && !k->bad()) pending_ids.insert(kf_id), pending.push_back(std::move(k));
+    }
+  }
+  // The current keyframe's neighbourhood (and the pending keyframes) move rigidly
+  // with it, world points x -> correction * x.
+  const SE3 correction = loop.T_c_w.Inverse() * current->T_c_w();
+  const Vector6d step = correction.Log();
+  report.correction_m = (loop.T_c_w.Inverse().translation() - current->center()).norm();
+  report.correction_deg = step.tail<3>().norm() * 180.0 / M_PI;
+  std::map<std::uint64_t, SE3> before;  // poses before the correction, for the graph's edges
+  for (const auto& [id, k] : map_.keyframes()) before[id] = k->T_c_w();
+  std::set<std::uint64_t> moved;
+  for (const auto& k : connected) {
+    for (const auto& p : k->map_points()) {
+      if (p && !p->bad() && moved.insert(p->id).second) p->SetPosition(correction * p->position());
+    }
+  }
+  for (const auto& k : pending) {
+    for (const auto& p : k->map_points()) {
+      if (p && !p->bad() && moved.insert(p->id).second) p->SetPosition(correction * p->position());
+    }
+  }
+  for (const auto& k : connected) k->SetPose(k->T_c_w() * correction.Inverse());
+  for (const auto& k : pending) k->SetPose(k->T_c_w() * correction.Inverse());
+  for (const auto& p : current->map_points()) {
+    if (p && !p->bad()) p->UpdateNormalAndDepth();
+  }
+  // Links the loop made: connections after the fusion that were not there before.
+  std::map<std::uint64_t, std::set<std::uint64_t>> previous;
+  for (const auto& k : connected) {
+    const auto ids = k->ConnectedIds();
+    previous[k->id] = std::set<std::uint64_t>(ids.begin(), ids.end());
+  }
+  FuseLoopPoints(loop, connected, report);
+  std::map<std::uint64_t, std::set<std::uint64_t>> new_links;
+  for (const auto& k : connected) {
+    k->UpdateConnections();
+    for (const std::uint64_t id : k->ConnectedIds()) {
+      const bool in_connected = std::any_of(connected.begin(), connected.end(), [&](const auto& c) { return c->id == id; });
+      if (!previous[k->id].count(id) && !in_connected) new_links[k->id].insert(id);
+    }
+  }
+  OptimizeEssentialGraph(loop, before, new_links, pending, report);
+  current->AddLoopEdge(loop.loop);
+  loop.loop->AddLoopEdge(current);
+  last_loop_kf_ = current->id;
+  ++loops_closed_;
+  map_.NoteCorrection();
+  report.closed = true;
+  report.correct_ms = watch.ElapsedMs();
+}
+
+void LoopCloser::FuseLoopPoints(const VerifiedLoop& loop, const std::vector<std::shared_ptr<KeyFrame>>& connected,
+                                LoopReport& report) {
+  const auto& current = loop.current;
+  for (std::size_t i = 0; i < loop.matched.size(); ++i) {
+    const auto& p = loop.matched[i];
+    if (!p || p->bad()) continue;
+    if (const auto own = current->map_point(i); own && !own->bad()) {
+      if (own != p) own->ReplaceWith(p, map_), ++report.fused;  // the loop side's point is the older
+    } else if (p->IndexIn(current->id) < 0) {
+      current->SetMapPoint(i, p);
+      p->AddObservation(current, i);
+      p->UpdateDescriptor();
+    }
+  }
+  for (const auto& k : connected) report.fused += matcher::Fuse(k, loop.loop_points, map_, kFuseRadius);
+}
+
+void LoopCloser::OptimizeEssentialGraph(const VerifiedLoop& loop, const std::map<std::uint64_t, SE3>& before,
+                                        const std::map<std::uint64_t, std::set<std::uint64_t>>& new_links,
+                                        const std::vector<std::shared_ptr<KeyFrame>>& pending, LoopReport& report) {
+  const Stopwatch watch;
+  optim::PoseGraphProblem problem;
+  std::vector<std::shared_ptr<KeyFrame>> nodes;
+  std::map<std::uint64_t, SE3> now;  // poses after the rigid correction: loop edges use these
+  for (const auto& [id, k] : map_.keyframes()) {
+    if (k->bad()) continue;
+    nodes.push_back(k);
+    now[id] = k->T_c_w();
+    problem.nodes.push_back({id, k->T_c_w(), k == loop.loop});
+  }
+  const auto old_pose = [&](std::uint64_t id) {
+    const auto it = before.find(id);
+    return it != before.end() ? it->second : now.at(id);
+  };
+  std::set<std::pair<std::uint64_t, std::uint64_t>> added;
+  const auto add = [&](std::uint64_t i, std::uint64_t j, const SE3& T_i_j) {
+    if (i == j || !now.count(i) || !now.count(j)) return;
+    if (!added.insert({std::min(i, j), std::max(i, j)}).second) return;
+    problem.edges.push_back({i, j, T_i_j, 1.0});
+  };
+  for (const auto& [i, links] : new_links) {
+    for (const std::uint64_t j : links) add(i, j, Relative(now.at(i), now.at(j)));
+  }
+  for (const auto& k : nodes) {
+    if (const auto parent = k->parent(); parent && !parent->bad()) {
+      add(k->id, parent->id, Relative(old_pose(k->id), old_pose(parent->id)));
+    }
+    for (const auto& l : k->LoopEdges()) add(k->id, l->id, Relative(old_pose(k->id), old_pose(l->id)));
+    for (const auto& n : k->CovisiblesWithWeight(kEssentialCovisibility)) {
+      add(k->id, n->id, Relative(old_pose(k->id), old_pose(n->id)));
+    }
+  }
+  const optim::PoseGraphResult result = optim::OptimizePoseGraph(problem);
+  report.corrected_keyframes = static_cast<int>(nodes.size());
+  report.pose_graph_ms = watch.ElapsedMs();
+  if (!result.success) {
+    spdlog::warn("loop {} -> {}: the pose graph did not converge; only the neighbourhood was corrected",
+                 loop.current->id, loop.loop->id);
+    return;
+  }
+  // Each point follows its reference keyframe (or, culled, the first live one seeing it).
+  std::map<std::uint64_t, SE3> delta;  // T_w_c_new * T_c_w_now: old world -> new world, per keyframe
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    delta[nodes[n]->id] = result.T_c_w[n].Inverse() * problem.nodes[n].T_c_w;
+    nodes[n]->SetPose(result.T_c_w[n]);
+  }
+  const SE3 current_delta = delta.at(loop.current->id);
+  for (const auto& k : pending) {
+    delta[k->id] = current_delta;
+    k->SetPose(k->T_c_w() * current_delta.Inverse());
+  }
+  for (const auto& [id, p] : map_.map_points()) {
+    if (p->bad()) continue;
+    auto it = delta.end();
+    if (const auto ref = p->reference_keyframe(); ref && !ref->bad()) it = delta.find(ref->id);
+    for (auto o = p->observations().begin(); it == delta.end() && o != p->observations().end(); ++o) {
+      it = delta.find(o->first);
+    }
+    if (it == delta.end()) continue;
+    p->SetPosition(it->second * p->position());
+    p->UpdateNormalAndDepth();
+  }
+}
+
+}  // namespace sgslam

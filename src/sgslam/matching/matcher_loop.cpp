@@ -1,0 +1,101 @@
+// The matcher functions loop closing uses: keyframe-to-keyframe matching through
+// the vocabulary's direct index, and the search of a loop's map points in the
+// current keyframe at its corrected pose. Keypoints tracking rejected as dynamic
+// are never matched (matcher_mapping.cpp says why).
+#include <algorithm>
+#include <cmath>
+
+#include "sgslam/features/hamming.h"
+#include "sgslam/matching/matcher.h"
+
+namespace sgslam::matcher {
+
+namespace {
+bool IsDynamic(const Features& f, std::size_t i) { return i < f.dynamic.size() && f.dynamic[i] != 0; }
+}  // namespace
+
+std::vector<std::shared_ptr<MapPoint>> SearchByBow(const KeyFrame& kf1, const KeyFrame& kf2, double ratio) {
+  const Features& f1 = *kf1.features;
+  const Features& f2 = *kf2.features;
+  std::vector<std::shared_ptr<MapPoint>> matched(f1.size());
+  if (!kf1.bow || !kf2.bow) return matched;
+  std::vector<std::uint8_t> taken(f2.size(), 0);
+  std::vector<float> diffs;
+  std::vector<std::size_t> index;
+  const auto match_node = [&](const std::vector<std::uint32_t>& a, const std::vector<std::uint32_t>& b) {
+    for (const std::uint32_t i : a) {
+      const auto& p1 = kf1.map_point(i);
+      if (!p1 || p1->bad() || IsDynamic(f1, i)) continue;
+      int best = 256, second = 256;
+      std::size_t best_j = SIZE_MAX;
+      for (const std::uint32_t j : b) {
+        const auto& p2 = kf2.map_point(j);
+        if (taken[j] || !p2 || p2->bad() || IsDynamic(f2, j)) continue;
+        const int d = features::HammingDistance(f1.descriptor(i), f2.descriptor(j));
+        if (d < best) {
+          second = best, best = d, best_j = j;
+        } else if (d < second) {
+          second = d;
+        }
+      }
+      if (best_j == SIZE_MAX || best > kThLow || best > ratio * second) continue;
+      matched[i] = kf2.map_point(best_j);
+      taken[best_j] = 1;
+      diffs.push_back(f1.keys[i].angle - f2.keys[best_j].angle);
+      index.push_back(i);
+    }
+  };
+  auto a = kf1.bow->nodes.begin();
+  auto b = kf2.bow->nodes.begin();
+  while (a != kf1.bow->nodes.end() && b != kf2.bow->nodes.end()) {
+    if (a->first < b->first) {
+      ++a;
+    } else if (b->first < a->first) {
+      ++b;
+    } else {
+      match_node(a->second, b->second);
+      ++a, ++b;
+    }
+  }
+  for (std::size_t k : RotationOutliers(diffs)) matched[index[k]].reset();
+  return matched;
+}
+
+int SearchByProjection(const KeyFrame& kf, const SE3& T_c_w, const std::vector<std::shared_ptr<MapPoint>>& points,
+                       std::vector<std::shared_ptr<MapPoint>>& matched, double th) {
+  const Features& f = *kf.features;
+  const Camera& cam = *f.camera;
+  const Eigen::Vector3d center = T_c_w.Inverse().translation();
+  std::vector<const MapPoint*> have;
+  for (const auto& p : matched) {
+    if (p) have.push_back(p.get());
+  }
+  std::sort(have.begin(), have.end());
+  int n = 0;
+  for (const auto& p : points) {
+    if (!p || p->bad() || std::binary_search(have.begin(), have.end(), p.get())) continue;
+    const Eigen::Vector3d p_w = p->position();
+    const Eigen::Vector3d p_c = T_c_w * p_w;
+    if (p_c.z() <= 0) continue;
+    const Eigen::Vector2d uv = cam.Project(p_c);
+    if (!f.bounds.Contains(uv.x(), uv.y())) continue;
+    const double distance = (p_w - center).norm();
+    if (distance < p->min_distance() || distance > p->max_distance()) continue;
+    if ((p_w - center).dot(p->normal()) < 0.5 * distance) continue;  // viewing angle over 60 deg
+    const int level = p->PredictScale(distance, *f.scale);
+    const double r = th * f.scale->scale[static_cast<std::size_t>(level)];
+    int best = 256;
+    std::size_t best_j = SIZE_MAX;
+    for (std::size_t j : f.InArea(uv.x(), uv.y(), r, level - 1, level)) {
+      if (matched[j] || IsDynamic(f, j)) continue;
+      const int d = features::HammingDistance(p->descriptor(), f.descriptor(j));
+      if (d < best) best = d, best_j = j;
+    }
+    if (best_j == SIZE_MAX || best > kThLow) continue;
+    matched[best_j] = p;
+    ++n;
+  }
+  return n;
+}
+
+}  // namespace sgslam::matcher

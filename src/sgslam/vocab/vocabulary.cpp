@@ -1,0 +1,180 @@
+#include "sgslam/vocab/vocabulary.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <map>
+
+#include "sgslam/common/error.h"
+#include "sgslam/common/sha256.h"
+#include "sgslam/features/hamming.h"
+#include "sgslam/io/text_file.h"
+
+namespace sgslam::vocab {
+
+static_assert(std::endian::native == std::endian::little, "the vocabulary file is read and written little-endian");
+
+namespace {
+
+constexpr char kMagic[8] = {'S', 'G', 'V', 'O', 'C', 'A', 'B', '\0'};
+constexpr std::size_t kHeaderBytes = 8 + 4 * 4 + 8;
+constexpr std::size_t kNodeBytes = 2 + kDescriptorBytes + 4;
+constexpr std::size_t kChecksumChars = 64;
+constexpr int kMaxBranching = 64;
+constexpr int kMaxLevels = 10;
+
+template <typename T>
+void Put(std::string& out, T value) {
+  char bytes[sizeof(T)];
+  std::memcpy(bytes, &value, sizeof(T));
+  out.append(bytes, sizeof(T));
+}
+
+// Reads a T at `offset` of `in`; the caller has checked the size.
+template <typename T>
+T Get(const std::string& in, std::size_t& offset) {
+  T value;
+  std::memcpy(&value, in.data() + offset, sizeof(T));
+  offset += sizeof(T);
+  return value;
+}
+
+}  // namespace
+
+Vocabulary::Vocabulary(int branching, int levels, std::uint64_t training_images, std::vector<Node> nodes,
+                       const std::string& what)
+    : branching_(branching), levels_(levels), training_images_(training_images), nodes_(std::move(nodes)) {
+  if (branching_ < 2 || branching_ > kMaxBranching || levels_ < 1 || levels_ > kMaxLevels) {
+    throw InputError(what + ": branching " + std::to_string(branching_) + " and levels " + std::to_string(levels_) +
+                     " are out of range (2.." + std::to_string(kMaxBranching) + ", 1.." + std::to_string(kMaxLevels) +
+                     ")");
+  }
+  if (nodes_.empty()) throw InputError(what + ": no nodes");
+  // Breadth-first: the children of node i follow those of node i - 1.
+  std::size_t next = 1;
+  nodes_[0].level = 0;
+  for (std::size_t i = 0; i < nodes_.size(); ++i) {
+    Node& n = nodes_[i];
+    if (n.children > branching_ || (n.children > 0 && n.level >= levels_)) {
+      throw InputError(what + ": node " + std::to_string(i) + " has " + std::to_string(n.children) +
+                       " children at level " + std::to_string(n.level) + " (branching " + std::to_string(branching_) +
+                       ", levels " + std::to_string(levels_) + ")");
+    }
+    if (next + n.children > nodes_.size()) throw InputError(what + ": the tree's node count is inconsistent");
+    n.first_child = static_cast<std::uint32_t>(next);
+    for (std::size_t c = next; c < next + n.children; ++c) nodes_[c].level = static_cast<std::uint16_t>(n.level + 1);
+    next += n.children;
+    if (n.children == 0 && i > 0) {
+      if (!std::isfinite(n.weight) || n.weight < 0) throw InputError(what + ": word weight is not finite and >= 0");
+      n.word = static_cast<WordId>(words_.size());
+      words_.push_back(static_cast<NodeId>(i));
+    }
+  }
+  if (next != nodes_.size()) throw InputError(what + ": the tree's node count is inconsistent");
+  if (words_.empty()) throw InputError(what + ": no words");
+  checksum_ = Sha256Hex(SerializeBody());
+}
+
+std::string Vocabulary::SerializeBody() const {
+  std::string out;
+  out.reserve(kHeaderBytes + nodes_.size() * kNodeBytes + kChecksumChars);
+  out.append(kMagic, sizeof(kMagic));
+  Put<std::uint32_t>(out, kVocabularyVersion);
+  Put<std::uint32_t>(out, static_cast<std::uint32_t>(branching_));
+  Put<std::uint32_t>(out, static_cast<std::uint32_t>(levels_));
+  Put<std::uint32_t>(out, static_cast<std::uint32_t>(nodes_.size()));
+  Put<std::uint64_t>(out, training_images_);
+  for (const Node& n : nodes_) {
+    Put<std::uint16_t>(out, n.children);
+    out.append(reinterpret_cast<const char*>(n.descriptor.data()), kDescriptorBytes);
+    Put<float>(out, n.weight);
+  }
+  return out;
+}
+
+void Vocabulary::Save(const std::filesystem::path& file) const { WriteFileAtomically(file, Serialize()); }
+
+Vocabulary Vocabulary::Load(const std::filesystem::path& file) {
+  const std::string what = "vocabulary " + file.string();
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw InputError("cannot read " + what);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (bytes.size() < kHeaderBytes + kChecksumChars || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
+    throw InputError(what + ": not an sgslam vocabulary file (no SGVOCAB header; train one with `sgslam vocab train`)");
+  }
+  std::size_t at = sizeof(kMagic);
+  const auto version = Get<std::uint32_t>(bytes, at);
+  if (version != kVocabularyVersion) {
+    throw InputError(what + ": file version " + std::to_string(version) + ", this build reads version " +
+                     std::to_string(kVocabularyVersion) + " (train it again with `sgslam vocab train`)");
+  }
+  const auto branching = Get<std::uint32_t>(bytes, at);
+  const auto levels = Get<std::uint32_t>(bytes, at);
+  const auto count = Get<std::uint32_t>(bytes, at);
+  const auto images = Get<std::uint64_t>(bytes, at);
+  const std::size_t expected = kHeaderBytes + std::size_t{count} * kNodeBytes + kChecksumChars;
+  if (bytes.size() != expected) {
+    throw InputError(what + ": " + std::to_string(bytes.size()) + " bytes, expected " + std::to_string(expected) +
+                     " for " + std::to_string(count) + " nodes (truncated or corrupt)");
+  }
+  const std::string body = bytes.substr(0, expected - kChecksumChars);
+  if (Sha256Hex(body) != bytes.substr(expected - kChecksumChars)) {
+    throw InputError(what + ": checksum mismatch (the file is corrupt)");
+  }
+  if (branching > kMaxBranching || levels > kMaxLevels) {
+    throw InputError(what + ": branching " + std::to_string(branching) + " or levels " + std::to_string(levels) +
+                     " out of range");
+  }
+  std::vector<Node> nodes(count);
+  for (Node& n : nodes) {
+    n.children = Get<std::uint16_t>(bytes, at);
+    std::memcpy(n.descriptor.data(), bytes.data() + at, kDescriptorBytes);
+    at += kDescriptorBytes;
+    n.weight = Get<float>(bytes, at);
+  }
+  return Vocabulary(static_cast<int>(branching), static_cast<int>(levels), images, std::move(nodes), what);
+}
+
+WordId Vocabulary::Quantize(const std::uint8_t* descriptor, int node_level, NodeId& node) const {
+  std::size_t at = 0;
+  node = 0;
+  while (nodes_[at].children > 0) {
+    const Node& n = nodes_[at];
+    std::size_t best = n.first_child;
+    int best_distance = std::numeric_limits<int>::max();
+    for (std::size_t c = n.first_child; c < n.first_child + n.children; ++c) {
+      const int d = features::HammingDistance(descriptor, nodes_[c].descriptor.data());
+      if (d < best_distance) best_distance = d, best = c;
+    }
+    at = best;
+    if (nodes_[at].level <= node_level) node = static_cast<NodeId>(at);
+  }
+  return nodes_[at].word;
+}
+
+BowData Vocabulary::Transform(const cv::Mat& descriptors, int levels_up) const {
+  BowData out;
+  if (descriptors.empty() || nodes_.empty()) return out;
+  const int node_level = std::max(1, levels_ - levels_up);
+  std::map<WordId, float> words;
+  std::map<NodeId, std::vector<std::uint32_t>> nodes;
+  for (int i = 0; i < descriptors.rows; ++i) {
+    NodeId node = 0;
+    const WordId w = Quantize(descriptors.ptr<std::uint8_t>(i), node_level, node);
+    const float weight = nodes_[words_[w]].weight;
+    if (weight > 0) words[w] += weight;  // TF-IDF: the TF's 1/n cancels in the normalisation
+    nodes[node].push_back(static_cast<std::uint32_t>(i));
+  }
+  double sum = 0;
+  for (const auto& [w, v] : words) sum += v;
+  out.words.reserve(words.size());
+  for (const auto& [w, v] : words) out.words.emplace_back(w, static_cast<float>(v / sum));
+  out.nodes.assign(std::make_move_iterator(nodes.begin()), std::make_move_iterator(nodes.end()));
+  return out;
+}
+
+}  // namespace sgslam::vocab
