@@ -127,6 +127,14 @@ nlohmann::json LocalMappingJson(const SlamSystem& system) {
           {"median_ba_points", median(&MappingStats::local_points)}};
 }
 
+nlohmann::json GlobalBaJson(const SlamSystem& system) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const auto& g : system.global_ba_reports()) {
+    out.push_back({{"keyframes", g.keyframes}, {"points", g.points}, {"ms", g.ms}, {"applied", !g.aborted}});
+  }
+  return out;
+}
+
 nlohmann::json LoopJson(const std::vector<FrameReport>& reports, const SlamSystem& system) {
   int relocalised = 0;
   for (std::size_t i = 1; i < reports.size(); ++i) {
@@ -143,6 +151,8 @@ nlohmann::json LoopJson(const std::vector<FrameReport>& reports, const SlamSyste
     if (!r.closed) continue;
     closed.push_back({{"keyframe", r.keyframe},
                       {"loop_keyframe", r.loop_keyframe},
+                      {"timestamp", FormatTimestamp(r.t)},
+                      {"loop_timestamp", FormatTimestamp(r.loop_t)},
                       {"inliers", r.inliers},
                       {"moved_m", r.correction_m},
                       {"turned_deg", r.correction_deg},
@@ -158,7 +168,8 @@ nlohmann::json LoopJson(const std::vector<FrameReport>& reports, const SlamSyste
           {"loops_rejected", rejected},
           {"loops_closed", closed.size()},
           {"median_detect_ms", Median(std::move(detect_ms))},
-          {"closed", closed}};
+          {"closed", closed},
+          {"global_ba", GlobalBaJson(system)}};
 }
 
 }  // namespace sgslam::app

@@ -80,7 +80,12 @@ std::optional<VerifiedLoop> LoopCloser::Detect(const std::shared_ptr<KeyFrame>& 
                   report.rejected);
   }
   report.detect_ms = watch.ElapsedMs();
-  if (loop) report.inliers = loop->inliers, report.loop_keyframe = loop->loop->id;
+  if (loop) {
+    report.inliers = loop->inliers;
+    report.loop_keyframe = loop->loop->id;
+    report.frame = kf->frame_id, report.t = kf->t;
+    report.loop_frame = loop->loop->frame_id, report.loop_t = loop->loop->t;
+  }
   return loop;
 }
 
@@ -192,14 +197,7 @@ void LoopCloser::Correct(const VerifiedLoop& loop, LoopReport& report) {
   connected.insert(connected.begin(), current);
   // Keyframes tracking made that local mapping has not inserted: their points are
   // in the map, they are not (yet).
-  std::vector<std::shared_ptr<KeyFrame>> pending;
-  std::set<std::uint64_t> pending_ids;
-  for (const auto& [id, p] : map_.map_points()) {
-    for (const auto& [kf_id, obs] : p->observations()) {
-      if (map_.keyframes().count(kf_id) || pending_ids.count(kf_id)) continue;
-      if (auto k = obs.keyframe.lock(); k && !k->bad()) pending_ids.insert(kf_id), pending.push_back(std::move(k));
-    }
-  }
+  const std::vector<std::shared_ptr<KeyFrame>> pending = PendingKeyFrames(map_);
   // The current keyframe's neighbourhood (and the pending keyframes) move rigidly
   // with it, world points x -> correction * x.
   const SE3 correction = loop.T_c_w.Inverse() * current->T_c_w();

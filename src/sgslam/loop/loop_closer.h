@@ -54,6 +54,8 @@ struct LoopReport {
   int rejected = 0;    // consistent candidates that failed geometric verification
   bool closed = false;
   std::uint64_t loop_keyframe = 0;
+  std::uint64_t frame = 0, loop_frame = 0;  // the frames the two keyframes were made from
+  Timestamp t = 0, loop_t = 0;
   int inliers = 0;             // of the accepted loop's last fit
   double correction_m = 0;     // how far the current keyframe moved
   double correction_deg = 0;   // ... and turned

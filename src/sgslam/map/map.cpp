@@ -15,4 +15,17 @@ void Map::Clear() {
   points_.clear();
 }
 
+std::vector<std::shared_ptr<KeyFrame>> PendingKeyFrames(const Map& map) {
+  std::map<std::uint64_t, std::shared_ptr<KeyFrame>> pending;
+  for (const auto& [id, p] : map.map_points()) {
+    for (const auto& [kf_id, obs] : p->observations()) {
+      if (map.keyframes().count(kf_id) || pending.count(kf_id)) continue;
+      if (auto k = obs.keyframe.lock(); k && !k->bad()) pending[kf_id] = std::move(k);
+    }
+  }
+  std::vector<std::shared_ptr<KeyFrame>> out;
+  for (auto& [id, k] : pending) out.push_back(std::move(k));
+  return out;
+}
+
 }  // namespace sgslam

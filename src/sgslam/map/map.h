@@ -58,4 +58,8 @@ class Map {
   std::uint64_t corrections_ = 0;
 };
 
+// [map] Keyframes tracking made that local mapping has not inserted yet: their
+// points are in the map, they are not. Ordered by id.
+std::vector<std::shared_ptr<KeyFrame>> PendingKeyFrames(const Map& map);
+
 }  // namespace sgslam

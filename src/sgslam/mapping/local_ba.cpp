@@ -8,6 +8,7 @@
 #include <shared_mutex>
 
 #include "sgslam/common/stats.h"
+#include "sgslam/mapping/ba_problem.h"
 #include "sgslam/mapping/local_mapper.h"
 #include "sgslam/optim/local_ba.h"
 
@@ -49,52 +50,60 @@ MappingStats LocalMapper::GlobalBundleAdjustment() {
   return stats;
 }
 
+BaSnapshot CopyBaProblem(const std::vector<std::shared_ptr<KeyFrame>>& free) {
+  BaSnapshot s;
+  if (free.empty()) return s;
+  const Camera& cam = *free.front()->features->camera;
+  s.problem.intrinsics = {cam.fx(), cam.fy(), cam.cx(), cam.cy(), cam.baseline_fx()};
+  std::map<std::uint64_t, int> kf_index;
+  const auto add_kf = [&](const std::shared_ptr<KeyFrame>& k, bool fixed) {
+    kf_index[k->id] = static_cast<int>(s.keyframes.size());
+    s.keyframes.push_back(k);
+    s.problem.keyframes.push_back({k->id, k->T_c_w(), fixed || k->id == 0});
+  };
+  for (const auto& k : free) {
+    if (!k->bad() && !kf_index.count(k->id)) add_kf(k, false);
+  }
+  const std::size_t local_count = s.keyframes.size();
+  std::map<std::uint64_t, int> point_index;
+  for (std::size_t k = 0; k < local_count; ++k) {
+    for (const auto& p : s.keyframes[k]->map_points()) {
+      if (!p || p->bad() || point_index.count(p->id)) continue;
+      point_index[p->id] = static_cast<int>(s.points.size());
+      s.points.push_back(p);
+      s.problem.points.push_back({p->id, p->position()});
+    }
+  }
+  for (std::size_t pi = 0; pi < s.points.size(); ++pi) {
+    for (const auto& [kf_id, obs] : s.points[pi]->observations()) {
+      const auto other = obs.keyframe.lock();
+      if (!other || other->bad()) continue;
+      if (!kf_index.count(kf_id)) add_kf(other, /*fixed=*/true);
+      const Features& f = *other->features;
+      optim::BaObservation o;
+      o.keyframe = kf_index[kf_id];
+      o.point = static_cast<int>(pi);
+      o.uv = {f.keys_un[obs.index].pt.x, f.keys_un[obs.index].pt.y};
+      o.u_right = f.u_right[obs.index];
+      o.inv_sigma2 = f.scale->inv_sigma2[static_cast<std::size_t>(f.keys_un[obs.index].octave)];
+      s.problem.observations.push_back(o);
+    }
+  }
+  return s;
+}
+
 bool LocalMapper::AdjustKeyFrames(const std::vector<std::shared_ptr<KeyFrame>>& free,
                                   const optim::BaOptions& options, const std::function<bool()>& interrupted,
                                   MappingStats& stats) {
   if (free.empty()) return true;
-  optim::BaProblem problem;
-  std::vector<std::shared_ptr<KeyFrame>> keyframes;
-  std::vector<std::shared_ptr<MapPoint>> points;
+  BaSnapshot snapshot;
   {
     std::shared_lock lock(map_.mutex());
-    const Camera& cam = *free.front()->features->camera;
-    problem.intrinsics = {cam.fx(), cam.fy(), cam.cx(), cam.cy(), cam.baseline_fx()};
-    std::map<std::uint64_t, int> kf_index;
-    const auto add_kf = [&](const std::shared_ptr<KeyFrame>& k, bool fixed) {
-      kf_index[k->id] = static_cast<int>(keyframes.size());
-      keyframes.push_back(k);
-      problem.keyframes.push_back({k->id, k->T_c_w(), fixed || k->id == 0});
-    };
-    for (const auto& k : free) {
-      if (!k->bad() && !kf_index.count(k->id)) add_kf(k, false);
-    }
-    const std::size_t local_count = keyframes.size();
-    std::map<std::uint64_t, int> point_index;
-    for (std::size_t k = 0; k < local_count; ++k) {
-      for (const auto& p : keyframes[k]->map_points()) {
-        if (!p || p->bad() || point_index.count(p->id)) continue;
-        point_index[p->id] = static_cast<int>(points.size());
-        points.push_back(p);
-        problem.points.push_back({p->id, p->position()});
-      }
-    }
-    for (std::size_t pi = 0; pi < points.size(); ++pi) {
-      for (const auto& [kf_id, obs] : points[pi]->observations()) {
-        const auto other = obs.keyframe.lock();
-        if (!other || other->bad()) continue;
-        if (!kf_index.count(kf_id)) add_kf(other, /*fixed=*/true);
-        const Features& f = *other->features;
-        optim::BaObservation o;
-        o.keyframe = kf_index[kf_id];
-        o.point = static_cast<int>(pi);
-        o.uv = {f.keys_un[obs.index].pt.x, f.keys_un[obs.index].pt.y};
-        o.u_right = f.u_right[obs.index];
-        o.inv_sigma2 = f.scale->inv_sigma2[static_cast<std::size_t>(f.keys_un[obs.index].octave)];
-        problem.observations.push_back(o);
-      }
-    }
+    snapshot = CopyBaProblem(free);
   }
+  const optim::BaProblem& problem = snapshot.problem;
+  const auto& keyframes = snapshot.keyframes;
+  const auto& points = snapshot.points;
   stats.local_keyframes = static_cast<int>(keyframes.size());
   stats.local_points = static_cast<int>(points.size());
   const optim::BaResult result = optim::SolveLocalBa(problem, options, interrupted);

@@ -21,6 +21,7 @@ namespace sgslam {
 namespace {
 
 constexpr std::size_t kLoopQueueSize = 16;  // keyframes waiting for loop detection (a few ms each)
+constexpr int kGlobalBaIterations = 10;     // per stage, after a loop (ORB-SLAM2)
 
 // The map starts on a frame with min_init_points keypoints with depth, but never
 // needs more than half the ORB budget: not every keypoint has depth (ORB-SLAM2 asks
@@ -119,17 +120,53 @@ void SlamSystem::MapKeyFrame(SemanticInput item, const std::function<bool()>& in
 void SlamSystem::CloseLoops(const std::shared_ptr<KeyFrame>& kf) {
   LoopReport report;
   if (const std::optional<VerifiedLoop> loop = loop_->Detect(kf, report)) {
-    std::lock_guard step(mapping_step_mutex_);  // local mapping waits (its BA must not undo the correction)
-    loop_->Correct(*loop, report);
+    StopGlobalBa(/*abort=*/true);  // the last loop's: this one changes the map under it
+    {
+      std::lock_guard step(mapping_step_mutex_);  // local mapping waits (its BA must not undo the correction)
+      loop_->Correct(*loop, report);
+    }
+    if (report.closed) StartGlobalBa();
   }
   if (report.closed) {
-    spdlog::info("loop closed: keyframe {} sees keyframe {} again ({} inliers); moved {:.3f} m, {:.2f} deg; "
-                 "{} keyframes in the pose graph, {:.0f} ms",
-                 report.keyframe, report.loop_keyframe, report.inliers, report.correction_m, report.correction_deg,
-                 report.corrected_keyframes, report.correct_ms);
+    spdlog::info("loop closed: frame {} (keyframe {}) sees frame {} (keyframe {}) again, {} inliers; moved {:.3f} m, "
+                 "{:.2f} deg; {} keyframes in the pose graph, {:.0f} ms",
+                 report.frame, report.keyframe, report.loop_frame, report.loop_keyframe, report.inliers,
+                 report.correction_m, report.correction_deg, report.corrected_keyframes, report.correct_ms);
   }
   std::lock_guard lock(stats_mutex_);
   loop_reports_.push_back(report);
+}
+
+void SlamSystem::StartGlobalBa() {
+  gba_abort_ = false;
+  if (sequential_) {
+    RunGlobalBa();
+  } else {
+    gba_thread_ = std::thread([this] { RunGlobalBa(); });
+  }
+}
+
+void SlamSystem::RunGlobalBa() {
+  const GlobalBaResult r = SolveGlobalBa(map_, kGlobalBaIterations, [this] { return gba_abort_.load(); });
+  bool applied = false;
+  if (!r.aborted && !r.T_c_w.empty()) {
+    std::lock_guard step(mapping_step_mutex_);
+    std::unique_lock lock(map_.mutex());
+    if (!gba_abort_) ApplyGlobalBa(map_, r), applied = true;
+  }
+  if (applied) spdlog::info("global bundle adjustment after the loop: {} keyframes, {} points, {:.0f} ms", r.keyframes, r.points, r.ms);
+  std::lock_guard lock(stats_mutex_);
+  gba_reports_.push_back({r.keyframes, r.points, r.ms, !applied});
+}
+
+void SlamSystem::StopGlobalBa(bool abort) {
+  if (abort) gba_abort_ = true;
+  if (gba_thread_.joinable()) gba_thread_.join();
+}
+
+std::vector<SlamSystem::GlobalBaReport> SlamSystem::global_ba_reports() const {
+  std::lock_guard lock(stats_mutex_);
+  return gba_reports_;
 }
 
 void SlamSystem::LoopClosingLoop() {
@@ -151,6 +188,8 @@ void SlamSystem::Stop(bool final_ba) {
   if (mapping_thread_.joinable()) mapping_thread_.join();
   loop_queue_.Shutdown();  // after local mapping: nothing feeds it any more
   if (loop_thread_.joinable()) loop_thread_.join();
+  // The final BA supersedes a running global BA; without one, it is waited for.
+  StopGlobalBa(/*abort=*/!final_ba || config_.mapping.final_ba_iterations > 0);
   // With every keyframe mapped, one bundle adjustment of the whole map (what
   // ORB-SLAM2 runs after a loop closure). The trajectory is exported relative to
   // the keyframes, so it follows; so do the semantic cloud and objects.

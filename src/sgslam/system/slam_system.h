@@ -25,6 +25,7 @@
 #include "sgslam/io/tum_dataset.h"
 #include "sgslam/loop/loop_closer.h"
 #include "sgslam/map/map.h"
+#include "sgslam/mapping/global_ba.h"
 #include "sgslam/mapping/local_mapper.h"
 #include "sgslam/semantic/semantic_mapper.h"
 #include "sgslam/system/dynamic_stage.h"
@@ -85,6 +86,13 @@ class SlamSystem {
   const std::optional<MappingStats>& final_ba() const { return final_ba_; }
   // One report per keyframe the loop closer looked at (loop.enabled).
   std::vector<LoopReport> loop_reports() const;
+  // The global bundle adjustments that followed loop closures (aborted ones too).
+  struct GlobalBaReport {
+    int keyframes = 0, points = 0;
+    double ms = 0;
+    bool aborted = false;
+  };
+  std::vector<GlobalBaReport> global_ba_reports() const;
   bool place_recognition() const { return places_ != nullptr; }
   DetectionWorkerStats detector_stats() const { return dynamic_.detector_stats(); }
 
@@ -122,6 +130,11 @@ class SlamSystem {
   // Local mapping of one keyframe, then the semantic thread and loop closing.
   void MapKeyFrame(SemanticInput item, const std::function<bool()>& interrupted);
   void CloseLoops(const std::shared_ptr<KeyFrame>& kf);
+  // The global BA after a loop: on its own thread (inline when sequential), applied
+  // with local mapping paused; StopGlobalBa aborts it (a new loop, the end) and joins.
+  void StartGlobalBa();
+  void RunGlobalBa();
+  void StopGlobalBa(bool abort);
   void Stop(bool final_ba);
   void ToSemantic(SemanticInput item);
   // A new keyframe to local mapping (at once when sequential), then to the semantic thread.
@@ -162,6 +175,9 @@ class SlamSystem {
   std::mutex mapping_step_mutex_;  // local mapping holds it per keyframe; a loop correction pauses it with it
   std::vector<LoopReport> loop_reports_;  // guarded by stats_mutex_
   std::thread loop_thread_;
+  std::thread gba_thread_;  // started and joined by the loop thread (or Stop, after it)
+  std::atomic<bool> gba_abort_{false};
+  std::vector<GlobalBaReport> gba_reports_;  // guarded by stats_mutex_
   bool finished_ = false;
   std::atomic<bool> snapshots_{false};
   mutable std::mutex frame_snapshot_mutex_;  // guards latest_frame_
