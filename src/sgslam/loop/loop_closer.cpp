@@ -69,6 +69,9 @@ std::optional<VerifiedLoop> LoopCloser::Detect(const std::shared_ptr<KeyFrame>& 
   report.candidates = static_cast<int>(candidates.size());
   const std::vector<std::shared_ptr<KeyFrame>> consistent = ConsistentCandidates(candidates);
   report.consistent = static_cast<int>(consistent.size());
+  spdlog::debug("loop: keyframe {} (frame {}): min score {:.3f}, {} candidates{}, {} consistent", kf->id, kf->frame_id,
+                min_score, candidates.size(), candidates.empty() ? "" : fmt::format(" (best {} {:.3f})", candidates[0].keyframe->id, candidates[0].score),
+                consistent.size());
   std::optional<VerifiedLoop> loop;
   for (const auto& candidate : consistent) {
     loop = Verify(kf, candidate);
