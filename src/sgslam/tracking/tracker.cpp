@@ -291,7 +291,7 @@ bool Tracker::TrackReferenceKeyFrame(Frame& frame, const std::shared_ptr<KeyFram
 }
 
 bool Tracker::Recover(Frame& frame, TrackResult& result) {
-  // Without a place-recognition database: the most recent keyframes (they see what
+  // Without place recognition (loop.enabled false): the most recent keyframes (they see what
   // the camera saw when it was lost, even if its last poses drifted), then those
   // nearest to the last good pose, up to recover_candidates (in a room-sized map
   // that is every keyframe: the camera may come back to any view). Each is matched

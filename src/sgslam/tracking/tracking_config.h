@@ -15,7 +15,7 @@ struct TrackingConfig {
   int min_motion_matches = 20;         // matches needed to trust the motion model
   int min_pose_inliers = 10;           // inliers after pose optimisation (motion / reference)
   int min_local_inliers = 30;          // inliers after local-map tracking
-  int recover_candidates = 30;         // keyframes tried per frame while lost (newest 5, then nearest)
+  int recover_candidates = 30;         // keyframes tried per frame while lost without place recognition (loop.enabled false): newest 5, then nearest
   double keyframe_ref_ratio = 0.75;    // new keyframe when tracked points fall below this share of the reference's
   int max_frames_between_keyframes = 30;  // frames; 0: the camera's fps
   int close_tracked_min = 100;         // need a keyframe when fewer close points are tracked ...
@@ -58,7 +58,7 @@ struct TrackingConfig {
     v("min_motion_matches", min_motion_matches, "matches to trust the motion model");
     v("min_pose_inliers", min_pose_inliers, "inliers after pose optimisation");
     v("min_local_inliers", min_local_inliers, "inliers after local-map tracking");
-    v("recover_candidates", recover_candidates, "keyframes tried per frame while lost");
+    v("recover_candidates", recover_candidates, "keyframes tried per frame while lost, without place recognition");
     v("keyframe_ref_ratio", keyframe_ref_ratio, "tracked share of the reference keyframe's points");
     v("max_frames_between_keyframes", max_frames_between_keyframes, "frames between keyframes at most");
     v("close_tracked_min", close_tracked_min, "close points tracked, keyframe rule");
