@@ -99,6 +99,9 @@ TEST(SynthCommand, BadArgumentsGiveClearErrors) {
   const auto preset = test::RunSgslam({"synth", "--preset", "nope", "--out", (dir / "a").string()});
   EXPECT_NE(preset.exit_code, 0);
   EXPECT_NE(preset.output.find("nope"), std::string::npos) << preset.output;
+  EXPECT_NE(preset.output.find("rpy, loop or repeat"), std::string::npos) << preset.output;
+  const auto noise = test::RunSgslam({"synth", "--depth-noise", "tof", "--out", (dir / "a").string()});
+  EXPECT_EQ(noise.exit_code, 2) << noise.output;
   const auto frames = test::RunSgslam({"synth", "--frames", "0", "--out", (dir / "b").string()});
   EXPECT_NE(frames.exit_code, 0);
   EXPECT_NE(frames.output.find("frames"), std::string::npos) << frames.output;
@@ -122,6 +125,24 @@ TEST(SynthCommand, ARollingShutterSequenceCarriesItsReadout) {
   EXPECT_NE(ReadAll(out / "sgslam.yaml").find("readout: 0.03  #"), std::string::npos);
   EXPECT_NE(ReadAll(out / "rgb.txt").find("--preset rpy --seed 1 --readout 0.03"), std::string::npos);
   EXPECT_EQ(ResolveRunConfig(std::nullopt, out).config.camera.readout, 0.03);
+}
+
+// loop takes its sensor from the preset (a Kinect's depth, a rolling shutter)
+// unless told otherwise; rgb.txt names the command either way.
+TEST(SynthCommand, PresetDefaultsApplyUnlessOverridden) {
+  test::TempDir dir;
+  const auto r = test::RunSgslam({"synth", "--preset", "loop", "--frames", "2", "--out", (dir / "a").string()});
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("readout 0.03 s, depth noise kinect"), std::string::npos) << r.output;
+  EXPECT_EQ(ReadAll(dir / "a" / "sgslam.yaml"), synth::CameraYaml(0.03));
+  const std::string source = "'sgslam synth --preset loop --seed 1 --readout 0.03 --depth-noise kinect'";
+  EXPECT_NE(ReadAll(dir / "a" / "rgb.txt").find(source), std::string::npos);
+  const auto plain = test::RunSgslam({"synth", "--preset", "loop", "--frames", "2", "--readout", "0", "--depth-noise",
+                                      "none", "--out", (dir / "b").string()});
+  ASSERT_EQ(plain.exit_code, 0) << plain.output;
+  EXPECT_EQ(ReadAll(dir / "b" / "sgslam.yaml"), synth::CameraYaml(0));
+  EXPECT_NE(ReadAll(dir / "b" / "rgb.txt").find("'sgslam synth --preset loop --seed 1 --readout 0 --depth-noise none'"),
+            std::string::npos);
 }
 
 }  // namespace

@@ -13,6 +13,18 @@ void Quad::Corners(Eigen::Vector3d corners[4]) const {
   corners[3] = centre - u + v;
 }
 
+Quad MakeQuad(const Eigen::Vector3d& centre, const Eigen::Vector3d& u, const Eigen::Vector3d& v, double hu, double hv,
+              int texture) {
+  Quad q;
+  q.centre = centre;
+  q.axis_u = u;
+  q.axis_v = v;
+  q.half_u = hu;
+  q.half_v = hv;
+  q.texture = texture;
+  return q;
+}
+
 Quad Transformed(const SE3& T_b_a, const Quad& quad) {
   Quad out = quad;
   out.centre = T_b_a * quad.centre;

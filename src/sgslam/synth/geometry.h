@@ -32,6 +32,10 @@ struct Quad {
   void Corners(Eigen::Vector3d corners[4]) const;
 };
 
+// A quad with half sides hu, hv along u, v (unit, orthogonal; u x v its visible side).
+Quad MakeQuad(const Eigen::Vector3d& centre, const Eigen::Vector3d& u, const Eigen::Vector3d& v, double hu, double hv,
+              int texture);
+
 // The quad moved rigidly by T_b_a (its coordinates given in frame a, result in b).
 Quad Transformed(const SE3& T_b_a, const Quad& quad);
 

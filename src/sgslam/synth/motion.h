@@ -31,11 +31,31 @@ struct BouncePath {
   static double OmegaForSpeed(double reach, double speed);
 };
 
+// A closed loop walked anticlockwise (seen from above) at constant speed: a
+// rectangle with rounded corners. Arc length 0 is the middle of the -y side.
+struct LoopPath {
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();     // m, of the enclosing rectangle
+  Eigen::Vector2d half_size = Eigen::Vector2d::Zero();  // m, of the enclosing rectangle
+  double corner = 1.0;                                  // m, radius of the rounded corners
+  double speed = 0;                                     // m/s; 0: no loop
+  double start = 0;                                     // m, arc length at t = 0
+  // m: the gaze turns by 90 degrees over each corner's arc and this much of the
+  // straights either side, with a cosine ramp, so its rate is continuous.
+  double turn_margin = 0.6;
+
+  double Length() const;                                    // m, one lap
+  double Arc(double t) const { return start + speed * t; }  // m, at time t (s)
+  Eigen::Vector2d Point(double s) const;                    // m, at arc length s (periodic)
+  double Heading(double s) const;                           // rad, tangent azimuth (its rate jumps at the corners)
+  double GazeHeading(double s) const;                       // rad, smoothed and unwrapped: + 2 pi a lap
+};
+
 // Camera position, look-at target and roll, all smooth in time.
 struct CameraPath {
   BouncePath line;              // the mean translation (reach 0: none)
+  LoopPath loop;                // added to line's position when loop.speed > 0
   Oscillation wobble[3];        // m, added to the position along world x, y, z
-  double yaw0 = 0;              // rad, gaze azimuth about world z (0: looking along +x)
+  double yaw0 = 0;              // rad, gaze azimuth about world z (0: along +x); on a loop, from its GazeHeading
   double yaw_rate = 0;          // rad/s, steady turn
   Oscillation yaw;              // rad, added to the azimuth
   double pitch0 = 0;            // rad, gaze elevation (negative: looking down)

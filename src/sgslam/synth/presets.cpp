@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "sgslam/common/error.h"
+#include "sgslam/synth/loop_scenes.h"
 #include "sgslam/synth/room.h"
 #include "sgslam/synth/shapes.h"
 
@@ -184,28 +185,55 @@ void BuildObjects(Scene& s) {
   }
 }
 
+struct Preset {
+  const char* name;
+  void (*build)(Scene&);
+  PresetDefaults defaults;
+};
+
+// The sensor of loop and repeat: a Kinect's depth and its colour camera's
+// rolling shutter (the readout measured on fr1_rpy, docs/rolling-shutter.md).
+constexpr double kKinectReadout = 0.03;  // s
+const Preset kPresets[] = {
+    {"static", [](Scene& s) { BuildRoomWithWalkers(s, /*add_walkers=*/false); }, {}},
+    {"walkers", [](Scene& s) { BuildRoomWithWalkers(s, /*add_walkers=*/true); }, {}},
+    {"degenerate", BuildDegenerate, {}},
+    {"objects", BuildObjects, {}},
+    {"rpy", BuildRpy, {}},
+    {"loop", BuildLoop, {LoopFrames(), kKinectReadout, DepthNoise::kKinect}},
+    {"repeat", BuildRepeat, {RepeatFrames(), kKinectReadout, DepthNoise::kKinect}},
+};
+
+const Preset& FindPreset(const std::string& name) {
+  for (const Preset& p : kPresets) {
+    if (name == p.name) return p;
+  }
+  const std::vector<std::string>& names = PresetNames();
+  std::string choices;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    choices += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+  }
+  throw InputError("unknown synth preset '" + name + "' (choose " + choices + ")");
+}
+
 }  // namespace
 
 const std::vector<std::string>& PresetNames() {
-  static const std::vector<std::string> names = {"static", "walkers", "degenerate", "objects", "rpy"};
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> out;
+    for (const Preset& p : kPresets) out.push_back(p.name);
+    return out;
+  }();
   return names;
 }
+
+PresetDefaults DefaultsOf(const std::string& preset) { return FindPreset(preset).defaults; }
 
 Scene BuildScene(const std::string& preset, std::uint32_t seed) {
   Scene s;
   s.preset = preset;
   s.seed = seed;
-  if (preset == "static" || preset == "walkers") {
-    BuildRoomWithWalkers(s, preset == "walkers");
-  } else if (preset == "degenerate") {
-    BuildDegenerate(s);
-  } else if (preset == "objects") {
-    BuildObjects(s);
-  } else if (preset == "rpy") {
-    BuildRpy(s);
-  } else {
-    throw InputError("unknown synth preset '" + preset + "' (choose static, walkers, degenerate, objects or rpy)");
-  }
+  FindPreset(preset).build(s);
   return s;
 }
 

@@ -26,7 +26,7 @@ struct RenderedFrame {
   SE3 T_w_c;
   cv::Mat bgr;           // CV_8UC3
   cv::Mat depth;         // CV_32F, m: camera z of the surface hit by the pixel centre's ray; 0 = none
-  cv::Mat depth_raw;     // CV_16U, round(depth * 5000), as the depth PNG stores it; 0 = none
+  cv::Mat depth_raw;     // CV_16U, the depth PNG's: round(depth * 5000) or a sensor's (depth_noise.h); 0 = none
   cv::Mat object_id;     // CV_32S, labelled object id, 0 on unlabelled surfaces
   cv::Mat surface;       // CV_32S, index into `surfaces`, -1 = none
   cv::Mat dynamic_mask;  // CV_8U, 255 where the visible surface belongs to a moving object

@@ -1,6 +1,7 @@
 #include "sgslam/synth/room.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -11,17 +12,6 @@ namespace {
 using Eigen::Vector2d;
 using Eigen::Vector3d;
 
-Quad MakeQuad(const Vector3d& centre, const Vector3d& u, const Vector3d& v, double hu, double hv, int texture) {
-  Quad q;
-  q.centre = centre;
-  q.axis_u = u;
-  q.axis_v = v;
-  q.half_u = hu;
-  q.half_v = hv;
-  q.texture = texture;
-  return q;
-}
-
 double SegmentDistance(const Vector2d& p, const KeepOut& k) {
   const Vector2d ab = k.b - k.a;
   const double len2 = ab.squaredNorm();
@@ -29,20 +19,28 @@ double SegmentDistance(const Vector2d& p, const KeepOut& k) {
   return (p - (k.a + s * ab)).norm();
 }
 
+// A poster w x h (m) at `s` along the wall from its centre, its lower edge
+// `bottom` m or more above the floor, its centre `centre_max` m or less.
+void AddPoster(Scene& scene, Rng& rng, const Quad& wall, double s, double w, double h, double bottom = 1.1,
+               double centre_max = 2.1) {
+  // Wall axes: one of them is vertical.
+  const bool u_vertical = std::abs(wall.axis_u.z()) > 0.5;
+  const Vector3d along = u_vertical ? wall.axis_v : wall.axis_u;
+  Vector3d centre = wall.centre + s * along + 0.01 * wall.normal();
+  centre.z() = rng.Uniform(bottom + 0.5 * h, centre_max);
+  Quad q = MakeQuad(centre, wall.axis_u, wall.axis_v, u_vertical ? 0.5 * h : 0.5 * w, u_vertical ? 0.5 * w : 0.5 * h,
+                    scene.AddTexture(ClutterTexture(rng.Seed())));
+  scene.static_quads.push_back(q);
+}
+
+double HalfAlong(const Quad& wall) { return std::abs(wall.axis_u.z()) > 0.5 ? wall.half_v : wall.half_u; }
+
 void AddPosters(Scene& scene, Rng& rng, const Quad& wall) {
   const int count = rng.UniformInt(1, 2);
   for (int i = 0; i < count; ++i) {
-    // Wall axes: one of them is vertical; posters hang 1.1-2.1 m high.
-    const bool u_vertical = std::abs(wall.axis_u.z()) > 0.5;
-    const Vector3d along = u_vertical ? wall.axis_v : wall.axis_u;
-    const double half_along = u_vertical ? wall.half_v : wall.half_u;
+    const double half_along = HalfAlong(wall);
     const double w = rng.Uniform(0.5, 1.2), h = rng.Uniform(0.4, 0.9);
-    const double s = rng.Uniform(-half_along + w, half_along - w);
-    Vector3d centre = wall.centre + s * along + 0.01 * wall.normal();
-    centre.z() = rng.Uniform(1.1 + 0.5 * h, 2.1);
-    Quad q = MakeQuad(centre, wall.axis_u, wall.axis_v, u_vertical ? 0.5 * h : 0.5 * w, u_vertical ? 0.5 * w : 0.5 * h,
-                      scene.AddTexture(ClutterTexture(rng.Seed())));
-    scene.static_quads.push_back(q);
+    AddPoster(scene, rng, wall, rng.Uniform(-half_along + w, half_along - w), w, h);
   }
 }
 
@@ -50,6 +48,10 @@ void AddPosters(Scene& scene, Rng& rng, const Quad& wall) {
 
 void AddRoom(Scene& scene, Rng& rng) {
   const Vector3d L(rng.Uniform(7.0, 8.0), rng.Uniform(6.0, 7.0), rng.Uniform(2.7, 3.0));
+  for (const Quad& w : AddRoomShell(scene, rng, L)) AddPosters(scene, rng, w);
+}
+
+std::array<Quad, 4> AddRoomShell(Scene& scene, Rng& rng, const Vector3d& L) {
   scene.room_size = L;
   const Vector3d X = Vector3d::UnitX(), Y = Vector3d::UnitY(), Z = Vector3d::UnitZ();
   const Vector3d c = 0.5 * L;
@@ -62,7 +64,28 @@ void AddRoom(Scene& scene, Rng& rng) {
       MakeQuad({c.x(), 0, c.z()}, Z, X, c.z(), c.x(), scene.AddTexture(WallTexture(rng.Seed()))),
       MakeQuad({c.x(), L.y(), c.z()}, X, Z, c.x(), c.z(), scene.AddTexture(WallTexture(rng.Seed())))};
   for (const Quad& w : walls) out.push_back(w);
-  for (const Quad& w : walls) AddPosters(scene, rng, w);
+  return {walls[0], walls[1], walls[2], walls[3]};
+}
+
+void AddPosterRow(Scene& scene, Rng& rng, const Quad& wall, double slot) {
+  const double half_along = HalfAlong(wall);
+  const int slots = static_cast<int>(std::floor(2 * half_along / slot));
+  Texture dark;  // of the frames: near-black
+  dark.colourfulness = 0;
+  dark.min_level = 0.08f, dark.max_level = 0.12f;
+  const int frame_texture = scene.AddTexture(dark);
+  for (int i = 0; i < slots; ++i) {
+    if (rng.Uniform(0, 1) < 0.2) continue;  // a bare stretch now and then
+    const double w = rng.Uniform(0.5, std::min(1.2, slot - 0.3)), h = rng.Uniform(0.4, 0.9);
+    const double centre = -half_along + (i + 0.5) * (2 * half_along / slots);  // of the slot
+    AddPoster(scene, rng, wall, centre + rng.Uniform(-0.5, 0.5) * (slot - 0.3 - w), w, h, 0.85, 1.6);
+    Quad frame = scene.static_quads.back();  // 3 cm wider each side, just behind the poster
+    frame.centre -= 0.005 * wall.normal();
+    frame.half_u += 0.03;
+    frame.half_v += 0.03;
+    frame.texture = frame_texture;
+    scene.static_quads.push_back(frame);
+  }
 }
 
 std::optional<Placement> PlaceNearWall(const Scene& scene, Rng& rng, double radius, double max_wall_distance,
@@ -86,6 +109,24 @@ std::optional<Placement> PlaceNearWall(const Scene& scene, Rng& rng, double radi
     return Placement{p, kFacing[wall]};
   }
   return std::nullopt;
+}
+
+void AddWallFurniture(Scene& scene, Rng& rng, const Quad& wall, std::vector<KeepOut>& keep_outs) {
+  const double half_along = HalfAlong(wall);
+  const Vector3d along = std::abs(wall.axis_u.z()) > 0.5 ? wall.axis_v : wall.axis_u;
+  const Vector3d normal = wall.normal();
+  double at = -half_along + 0.7 + rng.Uniform(0, 1.5);  // the next piece's start along the wall
+  while (true) {
+    const Vector3d size(rng.Uniform(0.35, 0.6), rng.Uniform(0.6, 1.6), rng.Uniform(0.5, 1.9));  // deep, wide, high
+    const int texture = scene.AddTexture(ClutterTexture(rng.Seed()));
+    if (at + size.y() > half_along - 0.7) return;
+    Vector3d centre = wall.centre + (at + 0.5 * size.y()) * along + (0.5 * size.x() + 0.01) * normal;
+    centre.z() = 0.5 * size.z();
+    AddBox(scene.static_quads, centre, size, std::atan2(normal.y(), normal.x()), 0, texture);
+    const Vector2d half_width = 0.5 * size.y() * along.head<2>();
+    keep_outs.push_back({centre.head<2>() - half_width, centre.head<2>() + half_width, 0.5 * size.x()});
+    at += size.y() + rng.Uniform(0.8, 2.5);
+  }
 }
 
 void AddClutter(Scene& scene, Rng& rng, int boxes, int panels, std::vector<KeepOut>& keep_outs) {

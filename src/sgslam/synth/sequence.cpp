@@ -12,8 +12,9 @@ Timestamp FrameTimestamp(int i) {
   return kFirstTimestamp + micros * 1000;
 }
 
-SynthSequence::SynthSequence(const std::string& preset, std::uint32_t seed, int frames, double readout)
-    : scene_(BuildScene(preset, seed)), frames_(frames), readout_(readout) {
+SynthSequence::SynthSequence(const std::string& preset, std::uint32_t seed, int frames, double readout,
+                             DepthNoise depth_noise)
+    : scene_(BuildScene(preset, seed)), frames_(frames), readout_(readout), depth_noise_(depth_noise) {
   if (frames <= 0) throw InputError("synth: the number of frames must be positive, got " + std::to_string(frames));
   if (!(readout >= 0 && readout <= 1 / kFps)) {
     throw InputError("synth: the readout time must be between 0 and one frame time (" + std::to_string(1 / kFps) +
@@ -52,6 +53,7 @@ RenderedFrame SynthSequence::Render(int i) const {
   }
   RenderedFrame f = RenderFrame(scene_, intrinsics_, CameraPose(i), Seconds(i), i, noise_seed_, rows);
   f.t = FrameTimestamp(i);
+  if (depth_noise_ == DepthNoise::kKinect) f.depth_raw = KinectDepthRaw(f, intrinsics_, noise_seed_, kDepthFactor);
   return f;
 }
 

@@ -12,6 +12,7 @@
 #include "sgslam/common/se3.h"
 #include "sgslam/common/time.h"
 #include "sgslam/detection/detection.h"
+#include "sgslam/synth/depth_noise.h"
 #include "sgslam/synth/renderer.h"
 #include "sgslam/synth/scene.h"
 
@@ -31,7 +32,9 @@ class SynthSequence {
   // [0, 1 / kFps]. readout > 0: a rolling shutter, row v exposed at the frame's
   // time + (v / height - 1/2) * readout (camera/rolling_shutter.h's model, with the
   // camera's translation as well); the ground truth is the middle row's pose.
-  SynthSequence(const std::string& preset, std::uint32_t seed, int frames, double readout = 0);
+  // depth_noise: the sensor model of the rendered frames' depth_raw (depth stays exact).
+  SynthSequence(const std::string& preset, std::uint32_t seed, int frames, double readout = 0,
+                DepthNoise depth_noise = DepthNoise::kNone);
 
   int size() const { return frames_; }
   const Scene& scene() const { return scene_; }
@@ -40,6 +43,7 @@ class SynthSequence {
 
   Timestamp timestamp(int i) const { return FrameTimestamp(i); }
   double readout() const { return readout_; }  // s
+  DepthNoise depth_noise() const { return depth_noise_; }
   double Seconds(int i) const;                        // time of frame i since the first frame
   SE3 CameraPose(int i) const;                        // T_w_c
   SE3 ObjectPose(int object_id, int i) const;         // T_w_o (identity for static objects)
@@ -52,6 +56,7 @@ class SynthSequence {
   Intrinsics intrinsics_;
   int frames_ = 0;
   double readout_ = 0;
+  DepthNoise depth_noise_ = DepthNoise::kNone;
   std::uint64_t noise_seed_ = 0;
 };
 

@@ -14,6 +14,7 @@
 #include "sgslam/detection/detections_file.h"
 #include "sgslam/io/text_file.h"
 #include "sgslam/io/trajectory.h"
+#include "sgslam/synth/presets.h"
 #include "sgslam/synth/sequence.h"
 
 namespace sgslam::synth {
@@ -116,10 +117,20 @@ std::string ObjectsJson(const SynthSequence& seq) {
   return root.dump(2) + "\n";
 }
 
+// The command that writes the same images: the sensor options whenever they are
+// not a global shutter and exact depth, or not the preset's defaults.
+std::string SourceCommand(const SynthSequence& seq) {
+  const PresetDefaults d = DefaultsOf(seq.scene().preset);
+  std::string command = "sgslam synth --preset " + seq.scene().preset + " --seed " + std::to_string(seq.scene().seed);
+  if (seq.readout() > 0 || seq.readout() != d.readout) command += " --readout " + FormatSeconds(seq.readout());
+  if (seq.depth_noise() != DepthNoise::kNone || seq.depth_noise() != d.depth_noise) {
+    command += std::string(" --depth-noise ") + DepthNoiseName(seq.depth_noise());
+  }
+  return command;
+}
+
 void WriteLists(const SynthSequence& seq, const std::vector<FrameResult>& results, const fs::path& out) {
-  const std::string source = "sgslam synth --preset " + seq.scene().preset + " --seed " +
-                             std::to_string(seq.scene().seed) +
-                             (seq.readout() > 0 ? " --readout " + FormatSeconds(seq.readout()) : "");
+  const std::string source = SourceCommand(seq);
   WriteFileAtomically(out / "rgb.txt", ImageList(seq, "color images", "rgb", source));
   WriteFileAtomically(out / "depth.txt", ImageList(seq, "depth maps", "depth", source));
   WriteFileAtomically(out / "mask.txt", ImageList(seq, "dynamic masks (255: moving object)", "mask", source));
@@ -168,7 +179,9 @@ std::string CameraYaml(double readout) {
 
 SynthSummary GenerateSequence(const SynthOptions& options, const fs::path& out) {
   const auto start = std::chrono::steady_clock::now();
-  const SynthSequence seq(options.preset, options.seed, options.frames, options.readout);  // checks preset and frames first
+  const PresetDefaults d = DefaultsOf(options.preset);  // checks the preset first
+  const SynthSequence seq(options.preset, options.seed, options.frames.value_or(d.frames),
+                          options.readout.value_or(d.readout), options.depth_noise.value_or(d.depth_noise));
   CheckOutputFolder(out, options.force);
   for (const char* sub : {"rgb", "depth", "mask"}) {
     std::error_code ec;
@@ -182,6 +195,8 @@ SynthSummary GenerateSequence(const SynthOptions& options, const fs::path& out) 
   summary.frames = seq.size();
   summary.preset = options.preset;
   summary.seed = options.seed;
+  summary.readout = seq.readout();
+  summary.depth_noise = seq.depth_noise();
   summary.out = out;
   for (const FrameResult& r : results) summary.mean_dynamic_fraction += r.dynamic_fraction / seq.size();
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -8,29 +8,37 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
+
+#include "sgslam/synth/depth_noise.h"
 
 namespace sgslam::synth {
 
+// frames, readout and depth_noise left unset take the preset's defaults
+// (presets.h: 300 frames, a global shutter and exact depth; loop and repeat differ).
 struct SynthOptions {
-  std::string preset = "walkers";  // static | walkers | degenerate | objects | rpy
+  std::string preset = "walkers";  // one of PresetNames()
   std::uint32_t seed = 1;          // scene layout, textures, paths and noise
-  int frames = 300;                // at 30 Hz
+  std::optional<int> frames;       // at 30 Hz
   bool force = false;              // write into a non-empty folder, replacing only our files
   int threads = 2;                 // render workers
-  double readout = 0;              // s, rolling-shutter readout (synth/sequence.h); 0: global shutter
+  std::optional<double> readout;   // s, rolling-shutter readout (synth/sequence.h); 0: global shutter
+  std::optional<DepthNoise> depth_noise;
 };
 
 struct SynthSummary {
   int frames = 0;
   std::string preset;
   std::uint32_t seed = 0;
+  double readout = 0;  // s
+  DepthNoise depth_noise = DepthNoise::kNone;
   double mean_dynamic_fraction = 0;  // mean share of mask pixels per frame
   std::filesystem::path out;
   double seconds = 0;  // wall time of rendering and writing
 };
 
-// Throws InputError for a bad preset, frames <= 0, a non-empty folder without force,
+// Throws InputError for a bad preset, frames <= 0, a bad readout, a non-empty folder without force,
 // or any file that cannot be written (naming it).
 SynthSummary GenerateSequence(const SynthOptions& options, const std::filesystem::path& out);
 
