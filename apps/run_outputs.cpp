@@ -141,11 +141,12 @@ nlohmann::json LoopJson(const std::vector<FrameReport>& reports, const SlamSyste
     relocalised += reports[i - 1].state == TrackState::kLost && reports[i].state == TrackState::kOk;
   }
   const std::vector<LoopReport> loops = system.loop_reports();
-  int rejected = 0, consistent = 0;
+  int rejected = 0, consistent = 0, implausible = 0;
   std::vector<double> detect_ms;
   nlohmann::json closed = nlohmann::json::array();
   for (const LoopReport& r : loops) {
     rejected += r.rejected;
+    implausible += r.implausible;
     consistent += r.consistent;
     detect_ms.push_back(r.detect_ms);
     if (!r.closed) continue;
@@ -166,6 +167,7 @@ nlohmann::json LoopJson(const std::vector<FrameReport>& reports, const SlamSyste
           {"keyframes_checked", loops.size()},
           {"consistent_candidates", consistent},
           {"loops_rejected", rejected},
+          {"loops_rejected_as_beyond_drift", implausible},
           {"loops_closed", closed.size()},
           {"median_detect_ms", Median(std::move(detect_ms))},
           {"closed", closed},

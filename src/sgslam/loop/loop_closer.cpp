@@ -75,7 +75,9 @@ std::optional<VerifiedLoop> LoopCloser::Detect(const std::shared_ptr<KeyFrame>& 
   std::optional<VerifiedLoop> loop;
   for (const auto& candidate : consistent) {
     loop = Verify(kf, candidate);
-    if (loop) break;
+    if (loop && Plausible(*loop)) break;
+    report.implausible += loop.has_value();
+    loop.reset();
     ++report.rejected;
   }
   if (report.rejected > 0) {
@@ -90,6 +92,28 @@ std::optional<VerifiedLoop> LoopCloser::Detect(const std::shared_ptr<KeyFrame>& 
     report.loop_frame = loop->loop->frame_id, report.loop_t = loop->loop->t;
   }
   return loop;
+}
+
+bool LoopCloser::Plausible(const VerifiedLoop& loop) const {
+  // The path: the live keyframes made between the two, in order.
+  double path = 0;
+  std::optional<Eigen::Vector3d> last;
+  for (auto it = map_.keyframes().lower_bound(loop.loop->id); it != map_.keyframes().end(); ++it) {
+    if (it->first > loop.current->id) break;
+    if (it->second->bad()) continue;
+    if (last) path += (it->second->center() - *last).norm();
+    last = it->second->center();
+  }
+  const SE3 correction = loop.T_c_w.Inverse() * loop.current->T_c_w();
+  const double moved = (loop.T_c_w.Inverse().translation() - loop.current->center()).norm();
+  const double turned = correction.Log().tail<3>().norm() * 180.0 / M_PI;
+  const bool ok = moved <= kMaxDriftBase + kMaxDriftRatio * path && turned <= kMaxTurnBase + kMaxTurnPerMetre * path;
+  if (!ok) {
+    spdlog::info("loop candidate rejected: frame {} and frame {} look alike and fit ({} inliers), but the correction "
+                 "of {:.2f} m and {:.1f} deg after {:.2f} m travelled is more than drift explains",
+                 loop.current->frame_id, loop.loop->frame_id, loop.inliers, moved, turned, path);
+  }
+  return ok;
 }
 
 std::vector<std::shared_ptr<KeyFrame>> LoopCloser::ConsistentCandidates(const std::vector<PlaceCandidate>& candidates) {

@@ -8,7 +8,11 @@
 // between the keyframe's map points and the candidate's, an SE(3) RANSAC on them
 // (geometry/rigid.h), a pose fit of the keyframe to the candidate's points, the
 // points of the candidate's neighbourhood projected for more matches, and a last
-// fit that must keep kMinLoopInliers. A loop that fails is counted, never applied.
+// fit that must keep kMinLoopInliers; and the correction must be one drift could
+// have made: at most kMaxDriftBase + kMaxDriftRatio times the path the keyframes
+// travelled between the two (and as much in rotation, per metre), or it is a place
+// that only looks the same (a repeated corridor). A loop that fails is counted,
+// never applied.
 //
 // Correct(): the keyframe and its covisible neighbours move rigidly to the pose
 // the loop says, with the points they see; duplicated points are fused across the
@@ -52,6 +56,7 @@ struct LoopReport {
   int candidates = 0;  // from the database
   int consistent = 0;  // consistent over kConsistency keyframes
   int rejected = 0;    // consistent candidates that failed geometric verification
+  int implausible = 0; // ... that passed it with a correction drift could not explain
   bool closed = false;
   std::uint64_t loop_keyframe = 0;
   std::uint64_t frame = 0, loop_frame = 0;  // the frames the two keyframes were made from
@@ -77,11 +82,17 @@ class LoopCloser {
   static constexpr int kMinBowMatches = 20;    // SE(3) RANSAC's minimum inliers too
   static constexpr int kMinLoopInliers = 40;   // after the neighbourhood's points were added
   static constexpr std::uint64_t kMinKeyFrames = 10;  // in the map, and since the last loop
+  static constexpr double kMaxDriftBase = 0.3;         // m
+  static constexpr double kMaxDriftRatio = 0.1;        // m of drift per m travelled
+  static constexpr double kMaxTurnBase = 5;            // deg
+  static constexpr double kMaxTurnPerMetre = 1;        // deg per m travelled
 
  private:
   using Group = std::pair<std::set<std::uint64_t>, int>;  // covisibility group, consistency
   std::vector<std::shared_ptr<KeyFrame>> ConsistentCandidates(const std::vector<PlaceCandidate>& candidates);
   std::optional<VerifiedLoop> Verify(const std::shared_ptr<KeyFrame>& kf, const std::shared_ptr<KeyFrame>& candidate);
+  // Whether drift along the keyframes between the two could have made the correction.
+  bool Plausible(const VerifiedLoop& loop) const;
   // Fits kf's pose T_c_w to the matched points; drops the outliers from matched.
   static int FitPose(const KeyFrame& kf, std::vector<std::shared_ptr<MapPoint>>& matched, SE3& T_c_w);
   void FuseLoopPoints(const VerifiedLoop& loop, const std::vector<std::shared_ptr<KeyFrame>>& connected,
