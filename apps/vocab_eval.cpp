@@ -108,9 +108,11 @@ VocabEvalResult EvaluateVocabulary(const VocabEvalArgs& a) {
     if (ranked.empty()) continue;
     std::stable_sort(ranked.begin(), ranked.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
     ++r.queries;
-    r.false_top1 += Overlap(views[q], views[ranked[0].second], cam) < kOverlapNone;
+    const bool wrong = Overlap(views[q], views[ranked[0].second], cam) < kOverlapNone;
+    r.false_top1 += wrong;
     if (!revisit) continue;
     ++r.revisits;
+    r.false_top1_revisits += wrong;
     const std::size_t top = std::min<std::size_t>(5, ranked.size());
     const bool hit = std::any_of(ranked.begin(), ranked.begin() + static_cast<std::ptrdiff_t>(top),
                                  [&](const auto& c) { return Overlap(views[q], views[c.second], cam) >= kOverlapSame; });
@@ -122,9 +124,11 @@ VocabEvalResult EvaluateVocabulary(const VocabEvalArgs& a) {
 std::string FormatVocabEval(const VocabEvalResult& r) {
   char line[256];
   std::snprintf(line, sizeof(line),
-                "views %d, queries %d, revisits %d: recall@5 %.3f, top-1 with no overlap %.3f\n", r.views,
-                r.queries, r.revisits, r.revisits > 0 ? static_cast<double>(r.hits_at5) / r.revisits : 0.0,
-                r.queries > 0 ? static_cast<double>(r.false_top1) / r.queries : 0.0);
+                "views %d, queries %d, revisits %d: recall@5 %.3f, top-1 with no overlap %.3f of the queries, "
+                "%.3f of the revisits\n",
+                r.views, r.queries, r.revisits, r.revisits > 0 ? static_cast<double>(r.hits_at5) / r.revisits : 0.0,
+                r.queries > 0 ? static_cast<double>(r.false_top1) / r.queries : 0.0,
+                r.revisits > 0 ? static_cast<double>(r.false_top1_revisits) / r.revisits : 0.0);
   return line;
 }
 
