@@ -50,6 +50,54 @@ std::vector<std::shared_ptr<MapPoint>> NeighbourhoodPoints(const std::shared_ptr
 // The relative pose T_i_j of two poses T_i_w and T_j_w.
 SE3 Relative(const SE3& T_i_w, const SE3& T_j_w) { return T_i_w * T_j_w.Inverse(); }
 
+// The keyframes and the points they see move with a rigid correction of the world
+// (x -> correction * x); each point once.
+void MoveRigidly(const std::vector<std::shared_ptr<KeyFrame>>& connected,
+                 const std::vector<std::shared_ptr<KeyFrame>>& pending, const SE3& correction) {
+  std::set<std::uint64_t> moved;
+  for (const auto* group : {&connected, &pending}) {
+    for (const auto& k : *group) {
+      for (const auto& p : k->map_points()) {
+        if (p && !p->bad() && moved.insert(p->id).second) p->SetPosition(correction * p->position());
+      }
+    }
+  }
+  for (const auto* group : {&connected, &pending}) {
+    for (const auto& k : *group) k->SetPose(k->T_c_w() * correction.Inverse());
+  }
+  for (const auto& p : connected.front()->map_points()) {
+    if (p && !p->bad()) p->UpdateNormalAndDepth();
+  }
+}
+
+// The optimised poses to the keyframes (pending ones move with `current`), and each
+// point with its reference keyframe (or, that culled, the first keyframe seeing it).
+void ApplyPoseGraph(Map& map, const std::vector<std::shared_ptr<KeyFrame>>& nodes,
+                    const optim::PoseGraphProblem& problem, const optim::PoseGraphResult& result,
+                    const std::vector<std::shared_ptr<KeyFrame>>& pending, const std::shared_ptr<KeyFrame>& current) {
+  std::map<std::uint64_t, SE3> delta;  // T_w_c_new * T_c_w_now: old world -> new world, per keyframe
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    delta[nodes[n]->id] = result.T_c_w[n].Inverse() * problem.nodes[n].T_c_w;
+    nodes[n]->SetPose(result.T_c_w[n]);
+  }
+  const SE3 current_delta = delta.at(current->id);
+  for (const auto& k : pending) {
+    delta[k->id] = current_delta;
+    k->SetPose(k->T_c_w() * current_delta.Inverse());
+  }
+  for (const auto& [id, p] : map.map_points()) {
+    if (p->bad()) continue;
+    auto it = delta.end();
+    if (const auto ref = p->reference_keyframe(); ref && !ref->bad()) it = delta.find(ref->id);
+    for (auto o = p->observations().begin(); it == delta.end() && o != p->observations().end(); ++o) {
+      it = delta.find(o->first);
+    }
+    if (it == delta.end()) continue;
+    p->SetPosition(it->second * p->position());
+    p->UpdateNormalAndDepth();
+  }
+}
+
 }  // namespace
 
 std::optional<VerifiedLoop> LoopCloser::Detect(const std::shared_ptr<KeyFrame>& kf, LoopReport& report) {
@@ -233,37 +281,8 @@ void LoopCloser::Correct(const VerifiedLoop& loop, LoopReport& report) {
   report.correction_deg = step.tail<3>().norm() * 180.0 / M_PI;
   std::map<std::uint64_t, SE3> before;  // poses before the correction, for the graph's edges
   for (const auto& [id, k] : map_.keyframes()) before[id] = k->T_c_w();
-  std::set<std::uint64_t> moved;
-  for (const auto& k : connected) {
-    for (const auto& p : k->map_points()) {
-      if (p && !p->bad() && moved.insert(p->id).second) p->SetPosition(correction * p->position());
-    }
-  }
-  for (const auto& k : pending) {
-    for (const auto& p : k->map_points()) {
-      if (p && !p->bad() && moved.insert(p->id).second) p->SetPosition(correction * p->position());
-    }
-  }
-  for (const auto& k : connected) k->SetPose(k->T_c_w() * correction.Inverse());
-  for (const auto& k : pending) k->SetPose(k->T_c_w() * correction.Inverse());
-  for (const auto& p : current->map_points()) {
-    if (p && !p->bad()) p->UpdateNormalAndDepth();
-  }
-  // Links the loop made: connections after the fusion that were not there before.
-  std::map<std::uint64_t, std::set<std::uint64_t>> previous;
-  for (const auto& k : connected) {
-    const auto ids = k->ConnectedIds();
-    previous[k->id] = std::set<std::uint64_t>(ids.begin(), ids.end());
-  }
-  FuseLoopPoints(loop, connected, report);
-  std::map<std::uint64_t, std::set<std::uint64_t>> new_links;
-  for (const auto& k : connected) {
-    k->UpdateConnections();
-    for (const std::uint64_t id : k->ConnectedIds()) {
-      const bool in_connected = std::any_of(connected.begin(), connected.end(), [&](const auto& c) { return c->id == id; });
-      if (!previous[k->id].count(id) && !in_connected) new_links[k->id].insert(id);
-    }
-  }
+  MoveRigidly(connected, pending, correction);
+  const auto new_links = FuseAndLink(loop, connected, report);
   OptimizeEssentialGraph(loop, before, new_links, pending, report);
   current->AddLoopEdge(loop.loop);
   loop.loop->AddLoopEdge(current);
@@ -272,6 +291,26 @@ void LoopCloser::Correct(const VerifiedLoop& loop, LoopReport& report) {
   map_.NoteCorrection();
   report.closed = true;
   report.correct_ms = watch.ElapsedMs();
+}
+
+std::map<std::uint64_t, std::set<std::uint64_t>> LoopCloser::FuseAndLink(
+    const VerifiedLoop& loop, const std::vector<std::shared_ptr<KeyFrame>>& connected, LoopReport& report) {
+  std::map<std::uint64_t, std::set<std::uint64_t>> previous;
+  std::set<std::uint64_t> group;
+  for (const auto& k : connected) {
+    const auto ids = k->ConnectedIds();
+    previous[k->id] = std::set<std::uint64_t>(ids.begin(), ids.end());
+    group.insert(k->id);
+  }
+  FuseLoopPoints(loop, connected, report);
+  std::map<std::uint64_t, std::set<std::uint64_t>> new_links;
+  for (const auto& k : connected) {
+    k->UpdateConnections();
+    for (const std::uint64_t id : k->ConnectedIds()) {
+      if (!previous[k->id].count(id) && !group.count(id)) new_links[k->id].insert(id);
+    }
+  }
+  return new_links;
 }
 
 void LoopCloser::FuseLoopPoints(const VerifiedLoop& loop, const std::vector<std::shared_ptr<KeyFrame>>& connected,
@@ -334,28 +373,7 @@ void LoopCloser::OptimizeEssentialGraph(const VerifiedLoop& loop, const std::map
                  loop.current->id, loop.loop->id);
     return;
   }
-  // Each point follows its reference keyframe (or, culled, the first live one seeing it).
-  std::map<std::uint64_t, SE3> delta;  // T_w_c_new * T_c_w_now: old world -> new world, per keyframe
-  for (std::size_t n = 0; n < nodes.size(); ++n) {
-    delta[nodes[n]->id] = result.T_c_w[n].Inverse() * problem.nodes[n].T_c_w;
-    nodes[n]->SetPose(result.T_c_w[n]);
-  }
-  const SE3 current_delta = delta.at(loop.current->id);
-  for (const auto& k : pending) {
-    delta[k->id] = current_delta;
-    k->SetPose(k->T_c_w() * current_delta.Inverse());
-  }
-  for (const auto& [id, p] : map_.map_points()) {
-    if (p->bad()) continue;
-    auto it = delta.end();
-    if (const auto ref = p->reference_keyframe(); ref && !ref->bad()) it = delta.find(ref->id);
-    for (auto o = p->observations().begin(); it == delta.end() && o != p->observations().end(); ++o) {
-      it = delta.find(o->first);
-    }
-    if (it == delta.end()) continue;
-    p->SetPosition(it->second * p->position());
-    p->UpdateNormalAndDepth();
-  }
+  ApplyPoseGraph(map_, nodes, problem, result, pending, loop.current);
 }
 
 }  // namespace sgslam

@@ -97,6 +97,11 @@ class LoopCloser {
   static int FitPose(const KeyFrame& kf, std::vector<std::shared_ptr<MapPoint>>& matched, SE3& T_c_w);
   void FuseLoopPoints(const VerifiedLoop& loop, const std::vector<std::shared_ptr<KeyFrame>>& connected,
                       LoopReport& report);
+  // Fuses the loop's points and returns the links it made: per keyframe of the
+  // current's neighbourhood, the keyframes outside it it is newly connected to.
+  std::map<std::uint64_t, std::set<std::uint64_t>> FuseAndLink(const VerifiedLoop& loop,
+                                                               const std::vector<std::shared_ptr<KeyFrame>>& connected,
+                                                               LoopReport& report);
   void OptimizeEssentialGraph(const VerifiedLoop& loop, const std::map<std::uint64_t, SE3>& before,
                               const std::map<std::uint64_t, std::set<std::uint64_t>>& new_links,
                               const std::vector<std::shared_ptr<KeyFrame>>& pending, LoopReport& report);

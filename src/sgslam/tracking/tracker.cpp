@@ -61,28 +61,8 @@ TrackResult Tracker::Track(Frame& frame, bool mapping_idle, bool mapping_full) {
     return result;
   }
 
-  bool ok = false;
   std::uint64_t corrections = 0;
-  {
-    std::shared_lock lock(map_.mutex());
-    // Local BA may have moved the last frame's reference keyframe since: keep the
-    // last frame where it sits relative to it (ORB-SLAM2's UpdateLastFrame).
-    if (const auto& ref = last_frame_.reference_kf; ref && !ref->bad() && last_frame_.has_pose) {
-      last_frame_.T_c_w = last_T_c_r_ * ref->T_c_w();
-    }
-    if (state_ == TrackState::kOk) {
-      ok = (has_velocity_ && TrackWithMotionModel(frame, result)) ||
-           TrackReferenceKeyFrame(frame, reference_kf_, result);
-    } else {
-      ok = places_ ? Relocalise(frame, result) : Recover(frame, result);
-    }
-    if (ok) ok = TrackLocalMap(frame, result);
-    if (ok) {
-      result.reference = reference_kf_;
-      result.T_c_r = frame.T_c_w * reference_kf_->T_w_c();
-    }
-    corrections = map_.corrections();
-  }
+  bool ok = TrackAgainstMap(frame, result, corrections);
   // The last frame's keyframe, corrected with this frame's pose; this frame is then
   // fitted again to its corrected points.
   if (waiting_) {
@@ -136,6 +116,29 @@ TrackResult Tracker::Track(Frame& frame, bool mapping_idle, bool mapping_full) {
   last_frame_ = frame;
   result.state = state_;
   return result;
+}
+
+bool Tracker::TrackAgainstMap(Frame& frame, TrackResult& result, std::uint64_t& corrections) {
+  std::shared_lock lock(map_.mutex());
+  // Local BA or a loop correction may have moved the last frame's reference
+  // keyframe since: keep the last frame where it sits relative to it (ORB-SLAM2's
+  // UpdateLastFrame).
+  if (const auto& ref = last_frame_.reference_kf; ref && !ref->bad() && last_frame_.has_pose) {
+    last_frame_.T_c_w = last_T_c_r_ * ref->T_c_w();
+  }
+  bool ok = false;
+  if (state_ == TrackState::kOk) {
+    ok = (has_velocity_ && TrackWithMotionModel(frame, result)) || TrackReferenceKeyFrame(frame, reference_kf_, result);
+  } else {
+    ok = places_ ? Relocalise(frame, result) : Recover(frame, result);
+  }
+  if (ok) ok = TrackLocalMap(frame, result);
+  if (ok) {
+    result.reference = reference_kf_;
+    result.T_c_r = frame.T_c_w * reference_kf_->T_w_c();
+  }
+  corrections = map_.corrections();
+  return ok;
 }
 
 Tracker::Before Tracker::BeforeOf(const Frame& frame) {

@@ -88,6 +88,9 @@ class Tracker {
 
  private:
   bool Initialize(Frame& frame, TrackResult& result);
+  // Motion model, reference keyframe or relocalisation, then the local map, under the
+  // map's shared lock; sets result.reference and T_c_r, and the map's corrections then.
+  bool TrackAgainstMap(Frame& frame, TrackResult& result, std::uint64_t& corrections);
   bool TrackWithMotionModel(Frame& frame, TrackResult& result);
   bool TrackReferenceKeyFrame(Frame& frame, const std::shared_ptr<KeyFrame>& keyframe, TrackResult& result);
   bool Recover(Frame& frame, TrackResult& result);
