@@ -52,13 +52,17 @@ SE3 Relative(const SE3& T_i_w, const SE3& T_j_w) { return T_i_w * T_j_w.Inverse(
 
 // The keyframes and the points they see move with a rigid correction of the world
 // (x -> correction * x); each point once.
-void MoveRigidly(const std::vector<std::shared_ptr<KeyFrame>>& connected,
-                 const std::vector<std::shared_ptr<KeyFrame>>& pending, const SE3& correction) {
-  std::set<std::uint64_t> moved;
+// Returns, per point moved, the keyframe that moved it: the pose graph then moves
+// the point with that keyframe (ORB-SLAM2's mnCorrectedReference), not again with
+// its reference keyframe, which may be outside the neighbourhood.
+std::map<std::uint64_t, std::uint64_t> MoveRigidly(const std::vector<std::shared_ptr<KeyFrame>>& connected,
+                                                   const std::vector<std::shared_ptr<KeyFrame>>& pending,
+                                                   const SE3& correction) {
+  std::map<std::uint64_t, std::uint64_t> moved_by;
   for (const auto* group : {&connected, &pending}) {
     for (const auto& k : *group) {
       for (const auto& p : k->map_points()) {
-        if (p && !p->bad() && moved.insert(p->id).second) p->SetPosition(correction * p->position());
+        if (p && !p->bad() && moved_by.emplace(p->id, k->id).second) p->SetPosition(correction * p->position());
       }
     }
   }
@@ -68,13 +72,15 @@ void MoveRigidly(const std::vector<std::shared_ptr<KeyFrame>>& connected,
   for (const auto& p : connected.front()->map_points()) {
     if (p && !p->bad()) p->UpdateNormalAndDepth();
   }
+  return moved_by;
 }
 
 // The optimised poses to the keyframes (pending ones move with `current`), and each
 // point with its reference keyframe (or, that culled, the first keyframe seeing it).
 void ApplyPoseGraph(Map& map, const std::vector<std::shared_ptr<KeyFrame>>& nodes,
                     const optim::PoseGraphProblem& problem, const optim::PoseGraphResult& result,
-                    const std::vector<std::shared_ptr<KeyFrame>>& pending, const std::shared_ptr<KeyFrame>& current) {
+                    const std::vector<std::shared_ptr<KeyFrame>>& pending, const std::shared_ptr<KeyFrame>& current,
+                    const std::map<std::uint64_t, std::uint64_t>& moved_by) {
   std::map<std::uint64_t, SE3> delta;  // T_w_c_new * T_c_w_now: old world -> new world, per keyframe
   for (std::size_t n = 0; n < nodes.size(); ++n) {
     delta[nodes[n]->id] = result.T_c_w[n].Inverse() * problem.nodes[n].T_c_w;
@@ -88,7 +94,11 @@ void ApplyPoseGraph(Map& map, const std::vector<std::shared_ptr<KeyFrame>>& node
   for (const auto& [id, p] : map.map_points()) {
     if (p->bad()) continue;
     auto it = delta.end();
-    if (const auto ref = p->reference_keyframe(); ref && !ref->bad()) it = delta.find(ref->id);
+    if (const auto by = moved_by.find(id); by != moved_by.end()) {
+      it = delta.find(by->second);
+    } else if (const auto ref = p->reference_keyframe(); ref && !ref->bad()) {
+      it = delta.find(ref->id);
+    }
     for (auto o = p->observations().begin(); it == delta.end() && o != p->observations().end(); ++o) {
       it = delta.find(o->first);
     }
@@ -227,9 +237,10 @@ std::optional<VerifiedLoop> LoopCloser::Verify(const std::shared_ptr<KeyFrame>& 
   SE3 T_c_w = rigid->T_12 * candidate->T_c_w();
   if (FitPose(*kf, kept, T_c_w) < kMinBowMatches) return std::nullopt;
   // More matches from the candidate's neighbourhood, at that pose; a last fit.
-  VerifiedLoop loop{kf, candidate, T_c_w, std::move(kept), NeighbourhoodPoints(candidate), 0};
+  VerifiedLoop loop{kf, candidate, T_c_w, SE3(), std::move(kept), NeighbourhoodPoints(candidate), 0};
   matcher::SearchByProjection(*kf, loop.T_c_w, loop.loop_points, loop.matched, kLoopSearchRadius);
   loop.inliers = FitPose(*kf, loop.matched, loop.T_c_w);
+  loop.T_cur_loop = loop.T_c_w * candidate->T_w_c();
   spdlog::debug("  final {} inliers", loop.inliers);
   if (loop.inliers < kMinLoopInliers) return std::nullopt;
   return loop;
@@ -275,15 +286,16 @@ void LoopCloser::Correct(const VerifiedLoop& loop, LoopReport& report) {
   const std::vector<std::shared_ptr<KeyFrame>> pending = PendingKeyFrames(map_);
   // The current keyframe's neighbourhood (and the pending keyframes) move rigidly
   // with it, world points x -> correction * x.
-  const SE3 correction = loop.T_c_w.Inverse() * current->T_c_w();
+  const SE3 target = loop.T_cur_loop * loop.loop->T_c_w();  // the loop side as it is now
+  const SE3 correction = target.Inverse() * current->T_c_w();
   const Vector6d step = correction.Log();
-  report.correction_m = (loop.T_c_w.Inverse().translation() - current->center()).norm();
+  report.correction_m = (target.Inverse().translation() - current->center()).norm();
   report.correction_deg = step.tail<3>().norm() * 180.0 / M_PI;
   std::map<std::uint64_t, SE3> before;  // poses before the correction, for the graph's edges
   for (const auto& [id, k] : map_.keyframes()) before[id] = k->T_c_w();
-  MoveRigidly(connected, pending, correction);
+  const auto moved_by = MoveRigidly(connected, pending, correction);
   const auto new_links = FuseAndLink(loop, connected, report);
-  OptimizeEssentialGraph(loop, before, new_links, pending, report);
+  OptimizeEssentialGraph(loop, before, new_links, pending, moved_by, report);
   current->AddLoopEdge(loop.loop);
   loop.loop->AddLoopEdge(current);
   last_loop_kf_ = current->id;
@@ -332,7 +344,8 @@ void LoopCloser::FuseLoopPoints(const VerifiedLoop& loop, const std::vector<std:
 
 void LoopCloser::OptimizeEssentialGraph(const VerifiedLoop& loop, const std::map<std::uint64_t, SE3>& before,
                                         const std::map<std::uint64_t, std::set<std::uint64_t>>& new_links,
-                                        const std::vector<std::shared_ptr<KeyFrame>>& pending, LoopReport& report) {
+                                        const std::vector<std::shared_ptr<KeyFrame>>& pending,
+                                        const std::map<std::uint64_t, std::uint64_t>& moved_by, LoopReport& report) {
   const Stopwatch watch;
   optim::PoseGraphProblem problem;
   std::vector<std::shared_ptr<KeyFrame>> nodes;
@@ -348,22 +361,21 @@ void LoopCloser::OptimizeEssentialGraph(const VerifiedLoop& loop, const std::map
     return it != before.end() ? it->second : now.at(id);
   };
   std::set<std::pair<std::uint64_t, std::uint64_t>> added;
-  const auto add = [&](std::uint64_t i, std::uint64_t j, const SE3& T_i_j) {
+  // An edge between two live keyframes, measured with `pose` (the poses after the
+  // rigid correction for the loop's new links, before it for the others).
+  const auto add = [&](std::uint64_t i, std::uint64_t j, const auto& pose) {
     if (i == j || !now.count(i) || !now.count(j)) return;
     if (!added.insert({std::min(i, j), std::max(i, j)}).second) return;
-    problem.edges.push_back({i, j, T_i_j, 1.0});
+    problem.edges.push_back({i, j, Relative(pose(i), pose(j)), 1.0});
   };
+  const auto now_pose = [&](std::uint64_t id) { return now.at(id); };
   for (const auto& [i, links] : new_links) {
-    for (const std::uint64_t j : links) add(i, j, Relative(now.at(i), now.at(j)));
+    for (const std::uint64_t j : links) add(i, j, now_pose);
   }
   for (const auto& k : nodes) {
-    if (const auto parent = k->parent(); parent && !parent->bad()) {
-      add(k->id, parent->id, Relative(old_pose(k->id), old_pose(parent->id)));
-    }
-    for (const auto& l : k->LoopEdges()) add(k->id, l->id, Relative(old_pose(k->id), old_pose(l->id)));
-    for (const auto& n : k->CovisiblesWithWeight(kEssentialCovisibility)) {
-      add(k->id, n->id, Relative(old_pose(k->id), old_pose(n->id)));
-    }
+    if (const auto parent = k->parent(); parent && !parent->bad()) add(k->id, parent->id, old_pose);
+    for (const auto& l : k->LoopEdges()) add(k->id, l->id, old_pose);
+    for (const auto& n : k->CovisiblesWithWeight(kEssentialCovisibility)) add(k->id, n->id, old_pose);
   }
   const optim::PoseGraphResult result = optim::OptimizePoseGraph(problem);
   report.corrected_keyframes = static_cast<int>(nodes.size());
@@ -373,7 +385,7 @@ void LoopCloser::OptimizeEssentialGraph(const VerifiedLoop& loop, const std::map
                  loop.current->id, loop.loop->id);
     return;
   }
-  ApplyPoseGraph(map_, nodes, problem, result, pending, loop.current);
+  ApplyPoseGraph(map_, nodes, problem, result, pending, loop.current, moved_by);
 }
 
 }  // namespace sgslam

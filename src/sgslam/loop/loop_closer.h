@@ -42,7 +42,9 @@ namespace sgslam {
 struct VerifiedLoop {
   std::shared_ptr<KeyFrame> current;  // the new keyframe
   std::shared_ptr<KeyFrame> loop;     // the old keyframe it sees again
-  SE3 T_c_w;                          // current's pose in the loop side's frame of reference
+  SE3 T_c_w;                          // current's pose in the loop side's frame of reference, at Detect
+  SE3 T_cur_loop;                     // current relative to the loop keyframe (Correct starts from it:
+                                      // a global BA may move the loop side between Detect and Correct)
   // One per current keypoint: the loop side's map point matched to it, or null.
   std::vector<std::shared_ptr<MapPoint>> matched;
   // The points of the loop keyframe and its covisible neighbours.
@@ -102,9 +104,11 @@ class LoopCloser {
   std::map<std::uint64_t, std::set<std::uint64_t>> FuseAndLink(const VerifiedLoop& loop,
                                                                const std::vector<std::shared_ptr<KeyFrame>>& connected,
                                                                LoopReport& report);
+  // moved_by: the keyframe whose rigid correction moved each point (Correct's first step).
   void OptimizeEssentialGraph(const VerifiedLoop& loop, const std::map<std::uint64_t, SE3>& before,
                               const std::map<std::uint64_t, std::set<std::uint64_t>>& new_links,
-                              const std::vector<std::shared_ptr<KeyFrame>>& pending, LoopReport& report);
+                              const std::vector<std::shared_ptr<KeyFrame>>& pending,
+                              const std::map<std::uint64_t, std::uint64_t>& moved_by, LoopReport& report);
 
   Map& map_;
   const std::shared_ptr<const KeyFrameDatabase> places_;

@@ -5,7 +5,8 @@
 // takes it exclusively only to insert a keyframe; local mapping reads under a
 // shared lock and writes (new points, fusion, culling, BA results) under an
 // exclusive lock held briefly; optimisation itself runs on copies without a lock.
-// No other lock is ever taken while holding it, so there is no lock order to break.
+// Only the place-recognition database's mutex (a leaf) is ever taken while holding
+// it; SlamSystem's mapping step mutex is taken before it (docs/development.md).
 // Per-entity mutexes were tried in ORB-SLAM2 and led to its shutdown and reset
 // races; one readers-writer lock is simpler and TSan-clean at our scale.
 #pragma once
@@ -35,7 +36,14 @@ class Map {
   std::uint64_t NewMapPointId() { return next_point_id_++; }
 
   // [map] membership; ordered by id so every traversal is deterministic.
-  void AddKeyFrame(const std::shared_ptr<KeyFrame>& kf) { keyframes_[kf->id] = kf; }
+  void AddKeyFrame(const std::shared_ptr<KeyFrame>& kf) {
+    keyframes_[kf->id] = kf;
+    pending_.erase(kf->id);
+  }
+  // [map] A keyframe tracking made, with its points in the map, that local mapping
+  // has not inserted yet (AddKeyFrame ends that).
+  void AddPending(const std::shared_ptr<KeyFrame>& kf) { pending_[kf->id] = kf; }
+  const std::map<std::uint64_t, std::shared_ptr<KeyFrame>>& pending() const { return pending_; }
   void EraseKeyFrame(std::uint64_t id) { keyframes_.erase(id); }
   void AddMapPoint(const std::shared_ptr<MapPoint>& p) { points_[p->id] = p; }
   void EraseMapPoint(std::uint64_t id) { points_.erase(id); }
@@ -55,11 +63,12 @@ class Map {
   std::atomic<std::uint64_t> next_keyframe_id_{0}, next_point_id_{0};
   std::map<std::uint64_t, std::shared_ptr<KeyFrame>> keyframes_;
   std::map<std::uint64_t, std::shared_ptr<MapPoint>> points_;
+  std::map<std::uint64_t, std::shared_ptr<KeyFrame>> pending_;
   std::uint64_t corrections_ = 0;
 };
 
-// [map] Keyframes tracking made that local mapping has not inserted yet: their
-// points are in the map, they are not. Ordered by id.
+// [map] Keyframes tracking made that local mapping has not inserted yet (their
+// points are in the map, they are not), without the culled. Ordered by id.
 std::vector<std::shared_ptr<KeyFrame>> PendingKeyFrames(const Map& map);
 
 }  // namespace sgslam

@@ -9,6 +9,22 @@
 
 namespace sgslam {
 
+namespace {
+
+// The correction of a point's reference keyframe or, that culled, of the first
+// keyframe that sees it; null when none has one.
+const SE3* DeltaOf(const MapPoint& p, const std::map<std::uint64_t, SE3>& delta) {
+  if (const auto ref = p.reference_keyframe(); ref && !ref->bad()) {
+    if (const auto it = delta.find(ref->id); it != delta.end()) return &it->second;
+  }
+  for (const auto& [kf_id, obs] : p.observations()) {
+    if (const auto it = delta.find(kf_id); it != delta.end()) return &it->second;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
 GlobalBaResult SolveGlobalBa(const Map& map, int iterations, const std::function<bool()>& abort) {
   const Stopwatch watch;
   GlobalBaResult out;
@@ -71,8 +87,8 @@ void ApplyGlobalBa(Map& map, const GlobalBaResult& result) {
     if (p->bad()) continue;
     if (const auto solved = result.p_w.find(id); solved != result.p_w.end()) {
       p->SetPosition(solved->second);
-    } else if (const auto ref = p->reference_keyframe(); ref && delta.count(ref->id)) {
-      p->SetPosition(delta.at(ref->id) * p->position());
+    } else if (const SE3* d = DeltaOf(*p, delta)) {
+      p->SetPosition(*d * p->position());
     } else {
       continue;
     }

@@ -148,7 +148,8 @@ int LocalMapper::CullKeyFrames(const std::shared_ptr<KeyFrame>& kf) {
       if (others >= 3) ++redundant;
     }
     if (points > 0 && redundant > config_.redundant_ratio * points) {
-      k->SetBad(map_);
+      k->SetBad(map_);  // refused for a keyframe that closes a loop
+      if (!k->bad()) continue;
       if (places_) places_->Erase(*k);
       ++culled;
     }

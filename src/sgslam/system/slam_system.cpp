@@ -120,12 +120,12 @@ void SlamSystem::MapKeyFrame(SemanticInput item, const std::function<bool()>& in
 void SlamSystem::CloseLoops(const std::shared_ptr<KeyFrame>& kf) {
   LoopReport report;
   if (const std::optional<VerifiedLoop> loop = loop_->Detect(kf, report)) {
-    StopGlobalBa(/*abort=*/true);  // the last loop's: this one changes the map under it
+    const bool was_running = StopGlobalBa(/*abort=*/true);  // the last loop's: this one changes the map under it
     {
       std::lock_guard step(mapping_step_mutex_);  // local mapping waits (its BA must not undo the correction)
       loop_->Correct(*loop, report);
     }
-    if (report.closed) StartGlobalBa();
+    if (report.closed || was_running) StartGlobalBa();
   }
   if (report.closed) {
     spdlog::info("loop closed: frame {} (keyframe {}) sees frame {} (keyframe {}) again, {} inliers; moved {:.3f} m, "
@@ -159,9 +159,11 @@ void SlamSystem::RunGlobalBa() {
   gba_reports_.push_back({r.keyframes, r.points, r.ms, !applied});
 }
 
-void SlamSystem::StopGlobalBa(bool abort) {
+bool SlamSystem::StopGlobalBa(bool abort) {
   if (abort) gba_abort_ = true;
-  if (gba_thread_.joinable()) gba_thread_.join();
+  if (!gba_thread_.joinable()) return false;
+  gba_thread_.join();
+  return true;
 }
 
 std::vector<SlamSystem::GlobalBaReport> SlamSystem::global_ba_reports() const {

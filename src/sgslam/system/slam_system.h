@@ -131,10 +131,11 @@ class SlamSystem {
   void MapKeyFrame(SemanticInput item, const std::function<bool()>& interrupted);
   void CloseLoops(const std::shared_ptr<KeyFrame>& kf);
   // The global BA after a loop: on its own thread (inline when sequential), applied
-  // with local mapping paused; StopGlobalBa aborts it (a new loop, the end) and joins.
+  // with local mapping paused; StopGlobalBa aborts it (a new loop, the end) and
+  // joins; true when one was running (it may have finished).
   void StartGlobalBa();
   void RunGlobalBa();
-  void StopGlobalBa(bool abort);
+  bool StopGlobalBa(bool abort);
   void Stop(bool final_ba);
   void ToSemantic(SemanticInput item);
   // A new keyframe to local mapping (at once when sequential), then to the semantic thread.

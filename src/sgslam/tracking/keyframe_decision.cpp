@@ -50,6 +50,7 @@ std::shared_ptr<KeyFrame> Tracker::CreateKeyFrame(Frame& frame, const SE3& T_c_r
     if (p && !frame.outlier[i] && !p->bad()) kf->SetMapPoint(i, p);
   }
   AddDepthPoints(frame, kf, /*all=*/false);
+  map_.AddPending(kf);  // until local mapping inserts it
   reference_kf_ = kf;
   frame.reference_kf = kf;
   last_keyframe_frame_id_ = frame.id;

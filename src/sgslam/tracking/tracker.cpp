@@ -68,6 +68,7 @@ TrackResult Tracker::Track(Frame& frame, bool mapping_idle, bool mapping_full) {
   if (waiting_) {
     if (ok && before_last_ && CorrectWaitingKeyFrame(waiting_, *before_last_, frame)) {
       std::shared_lock lock(map_.mutex());
+      if (map_.corrections() != corrections) frame.T_c_w = result.T_c_r * reference_kf_->T_c_w();  // a loop since
       OptimizePose(frame);
       result.T_c_r = frame.T_c_w * reference_kf_->T_w_c();
       corrections = map_.corrections();
@@ -91,7 +92,7 @@ TrackResult Tracker::Track(Frame& frame, bool mapping_idle, bool mapping_full) {
   frame.reference_kf = reference_kf_;
   velocity_ = frame.T_c_w * last_frame_.T_c_w.Inverse();
   velocity_dt_ = ToSeconds(frame.t - last_frame_.t);
-  has_velocity_ = last_frame_.has_pose;
+  has_velocity_ = last_frame_.has_pose && last_frame_.id + 1 == frame.id;  // not across a loss
 
   bool need_keyframe = false;
   {

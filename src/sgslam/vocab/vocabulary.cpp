@@ -58,6 +58,7 @@ Vocabulary::Vocabulary(int branching, int levels, std::uint64_t training_images,
   std::size_t next = 1;
   nodes_[0].level = 0;
   for (std::size_t i = 0; i < nodes_.size(); ++i) {
+    if (i > 0 && i >= next) throw InputError(what + ": node " + std::to_string(i) + " has no parent");
     Node& n = nodes_[i];
     if (n.children > branching_ || (n.children > 0 && n.level >= levels_)) {
       throw InputError(what + ": node " + std::to_string(i) + " has " + std::to_string(n.children) +
