@@ -6,6 +6,7 @@
 #include <cstdint>
 
 #include "sgslam/features/hamming.h"
+#include "sgslam/matching/projection.h"
 
 namespace sgslam::matcher {
 
@@ -37,6 +38,14 @@ struct Best {
     }
   }
 };
+
+// Unmatches the frame keypoints matched[k] whose angle change diffs[k] RotationOutliers
+// rejects; returns how many.
+int DropRotationOutliers(Frame& current, const std::vector<float>& diffs, const std::vector<std::size_t>& matched) {
+  const std::vector<std::size_t> drop = RotationOutliers(diffs);
+  for (std::size_t k : drop) current.map_points[matched[k]].reset();
+  return static_cast<int>(drop.size());
+}
 
 }  // namespace
 
@@ -120,17 +129,12 @@ int SearchByProjection(Frame& current, const Frame& last, double radius_px, int 
       ++n;
     }
   }
-  for (std::size_t k : RotationOutliers(diffs)) {
-    current.map_points[matched[k]].reset();
-    --n;
-  }
-  return n;
+  return n - DropRotationOutliers(current, diffs, matched);
 }
 
 int SearchByProjection(Frame& current, const KeyFrame& keyframe, double radius_px, int max_distance) {
   const Features& cf = *current.features;
   const Features& kf = *keyframe.features;
-  const Camera& cam = *cf.camera;
   const Eigen::Vector3d center = current.center();
   std::vector<const MapPoint*> have;
   for (const auto& p : current.map_points) {
@@ -143,16 +147,10 @@ int SearchByProjection(Frame& current, const KeyFrame& keyframe, double radius_p
   for (std::size_t i = 0; i < keyframe.map_points().size(); ++i) {
     const auto& p = keyframe.map_point(i);
     if (!p || p->bad() || std::binary_search(have.begin(), have.end(), p.get())) continue;
-    const Eigen::Vector3d p_c = current.T_c_w * p->position();
-    if (p_c.z() <= 0) continue;
-    const Eigen::Vector2d uv = cam.Project(p_c);
-    if (!cf.bounds.Contains(uv.x(), uv.y())) continue;
-    const double distance = (p->position() - center).norm();
-    if (distance < p->min_distance() || distance > p->max_distance()) continue;
-    const int level = p->PredictScale(distance, *cf.scale);
-    const double r = radius_px * cf.scale->scale[static_cast<std::size_t>(level)];
+    const auto w = ProjectForSearch(*p, current.T_c_w, center, cf, radius_px, /*view_check=*/false);
+    if (!w) continue;
     Best best;
-    for (std::size_t j : cf.InArea(uv.x(), uv.y(), r, level - 1, level + 1)) {
+    for (std::size_t j : cf.InArea(w->uv.x(), w->uv.y(), w->radius, w->level - 1, w->level + 1)) {
       if (current.map_points[j] || current.rejected[j]) continue;
       best.Offer(features::HammingDistance(p->descriptor(), cf.descriptor(j)), j, cf.keys_un[j].octave);
     }
@@ -162,11 +160,7 @@ int SearchByProjection(Frame& current, const KeyFrame& keyframe, double radius_p
     matched.push_back(best.index);
     ++n;
   }
-  for (std::size_t k : RotationOutliers(diffs)) {
-    current.map_points[matched[k]].reset();
-    --n;
-  }
-  return n;
+  return n - DropRotationOutliers(current, diffs, matched);
 }
 
 int SearchLocalPoints(Frame& current, const std::vector<std::shared_ptr<MapPoint>>& points, double th,
@@ -235,11 +229,7 @@ int MatchKeyFrameToFrame(const KeyFrame& keyframe, Frame& current, double ratio,
     matched.push_back(j);
     ++n;
   }
-  for (std::size_t k : RotationOutliers(diffs)) {
-    current.map_points[matched[k]].reset();
-    --n;
-  }
-  return n;
+  return n - DropRotationOutliers(current, diffs, matched);
 }
 
 // 0, 1, ..., n - 1 without storing them.

@@ -7,6 +7,7 @@
 
 #include "sgslam/features/hamming.h"
 #include "sgslam/matching/matcher.h"
+#include "sgslam/matching/projection.h"
 
 namespace sgslam::matcher {
 
@@ -64,7 +65,6 @@ std::vector<std::shared_ptr<MapPoint>> SearchByBow(const KeyFrame& kf1, const Ke
 int SearchByProjection(const KeyFrame& kf, const SE3& T_c_w, const std::vector<std::shared_ptr<MapPoint>>& points,
                        std::vector<std::shared_ptr<MapPoint>>& matched, double th) {
   const Features& f = *kf.features;
-  const Camera& cam = *f.camera;
   const Eigen::Vector3d center = T_c_w.Inverse().translation();
   std::vector<const MapPoint*> have;
   for (const auto& p : matched) {
@@ -74,19 +74,11 @@ int SearchByProjection(const KeyFrame& kf, const SE3& T_c_w, const std::vector<s
   int n = 0;
   for (const auto& p : points) {
     if (!p || p->bad() || std::binary_search(have.begin(), have.end(), p.get())) continue;
-    const Eigen::Vector3d p_w = p->position();
-    const Eigen::Vector3d p_c = T_c_w * p_w;
-    if (p_c.z() <= 0) continue;
-    const Eigen::Vector2d uv = cam.Project(p_c);
-    if (!f.bounds.Contains(uv.x(), uv.y())) continue;
-    const double distance = (p_w - center).norm();
-    if (distance < p->min_distance() || distance > p->max_distance()) continue;
-    if ((p_w - center).dot(p->normal()) < 0.5 * distance) continue;  // viewing angle over 60 deg
-    const int level = p->PredictScale(distance, *f.scale);
-    const double r = th * f.scale->scale[static_cast<std::size_t>(level)];
+    const auto w = ProjectForSearch(*p, T_c_w, center, f, th, /*view_check=*/true);
+    if (!w) continue;
     int best = 256;
     std::size_t best_j = SIZE_MAX;
-    for (std::size_t j : f.InArea(uv.x(), uv.y(), r, level - 1, level)) {
+    for (std::size_t j : f.InArea(w->uv.x(), w->uv.y(), w->radius, w->level - 1, w->level)) {
       if (matched[j] || IsDynamic(f, j)) continue;
       const int d = features::HammingDistance(p->descriptor(), f.descriptor(j));
       if (d < best) best = d, best_j = j;

@@ -8,6 +8,7 @@
 
 #include "sgslam/features/hamming.h"
 #include "sgslam/matching/matcher.h"
+#include "sgslam/matching/projection.h"
 
 namespace sgslam::matcher {
 
@@ -24,17 +25,12 @@ int Fuse(const std::shared_ptr<KeyFrame>& keyframe, const std::vector<std::share
   int fused = 0;
   for (const auto& p : points) {
     if (!p || p->bad() || p->IndexIn(keyframe->id) >= 0) continue;
-    const Eigen::Vector3d p_w = p->position();
-    const Eigen::Vector3d p_c = T_c_w * p_w;
-    if (p_c.z() <= 0) continue;
-    const Eigen::Vector2d uv = cam.Project(p_c);
-    if (!f.bounds.Contains(uv.x(), uv.y())) continue;
-    const double distance = (p_w - center).norm();
-    if (distance < p->min_distance() || distance > p->max_distance()) continue;
-    if ((p_w - center).dot(p->normal()) < 0.5 * distance) continue;  // viewing angle over 60 deg
-    const int level = p->PredictScale(distance, *f.scale);
-    const double r = th * f.scale->scale[static_cast<std::size_t>(level)];
-    const double ur = uv.x() - cam.baseline_fx() / p_c.z();
+    const auto w = ProjectForSearch(*p, T_c_w, center, f, th, /*view_check=*/true);
+    if (!w) continue;
+    const Eigen::Vector2d& uv = w->uv;
+    const int level = w->level;
+    const double r = w->radius;
+    const double ur = uv.x() - cam.baseline_fx() / w->depth;
     int best_dist = 256;
     std::size_t best = SIZE_MAX;
     for (std::size_t j : f.InArea(uv.x(), uv.y(), r)) {

@@ -30,6 +30,21 @@ optim::PoseObservation PoseObservationOf(const Features& f, std::size_t i, const
   return o;
 }
 
+// The frame's pose from its matched map points (PnP RANSAC on the undistorted keypoints).
+std::optional<SE3> PnpOnMatches(const Frame& frame, const geometry::PnpOptions& options) {
+  const Features& f = *frame.features;
+  std::vector<cv::Point3f> object;
+  std::vector<cv::Point2f> image;
+  for (std::size_t i = 0; i < frame.map_points.size(); ++i) {
+    if (!frame.map_points[i]) continue;
+    const Eigen::Vector3d p = frame.map_points[i]->position();
+    object.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
+    image.push_back(f.keys_un[i].pt);
+  }
+  const Camera& cam = *f.camera;
+  return geometry::SolvePnP(object, image, {cam.fx(), cam.fy(), cam.cx(), cam.cy()}, options);
+}
+
 }  // namespace
 
 const char* ToString(TrackState state) {
@@ -319,24 +334,12 @@ bool Tracker::Recover(Frame& frame, TrackResult& result) {
     if (candidates.size() >= cap) break;
     if (std::find(candidates.begin(), candidates.end(), kf) == candidates.end()) candidates.push_back(kf);
   }
-  const Features& f = *frame.features;
-  const Camera& cam = *f.camera;
-  const geometry::Pinhole K{cam.fx(), cam.fy(), cam.cx(), cam.cy()};
   for (const auto& kf : candidates) {
     std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
     const int n = matcher::SearchByDescriptor(*kf, frame, config_.descriptor_ratio);
     result.matches = n;
     if (n < 15) continue;
-    std::vector<cv::Point3f> object;
-    std::vector<cv::Point2f> image;
-    for (std::size_t i = 0; i < frame.map_points.size(); ++i) {
-      if (!frame.map_points[i]) continue;
-      const Eigen::Vector3d p = frame.map_points[i]->position();
-      object.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
-      image.push_back(f.keys_un[i].pt);
-    }
-    const std::optional<SE3> T_c_w =
-        geometry::SolvePnP(object, image, K, {300, 4.0, config_.min_pose_inliers});
+    const std::optional<SE3> T_c_w = PnpOnMatches(frame, {300, 4.0, config_.min_pose_inliers});
     if (!T_c_w) continue;
     frame.T_c_w = *T_c_w;
     const int inliers = OptimizePose(frame);
@@ -377,18 +380,7 @@ bool Tracker::Relocalise(Frame& frame, TrackResult& result) {
 bool Tracker::RelocaliseWith(Frame& frame, const KeyFrame& candidate, const vocab::BowData& bow) {
   std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
   if (matcher::SearchByBow(candidate, frame, bow.nodes, kRelocBowRatio) < kRelocMinBowMatches) return false;
-  const Features& f = *frame.features;
-  std::vector<cv::Point3f> object;
-  std::vector<cv::Point2f> image;
-  for (std::size_t i = 0; i < frame.map_points.size(); ++i) {
-    if (!frame.map_points[i]) continue;
-    const Eigen::Vector3d p = frame.map_points[i]->position();
-    object.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z()));
-    image.push_back(f.keys_un[i].pt);
-  }
-  const Camera& cam = *f.camera;
-  const geometry::Pinhole K{cam.fx(), cam.fy(), cam.cx(), cam.cy()};
-  const std::optional<SE3> T_c_w = geometry::SolvePnP(object, image, K, {300, 2.5, kRelocPnpMinInliers});
+  const std::optional<SE3> T_c_w = PnpOnMatches(frame, {300, 2.5, kRelocPnpMinInliers});
   if (!T_c_w) return false;
   frame.T_c_w = *T_c_w;
   int inliers = OptimizePose(frame);
