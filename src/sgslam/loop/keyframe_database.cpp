@@ -28,13 +28,6 @@ void KeyFrameDatabase::Erase(const KeyFrame& kf) {
   }
 }
 
-std::size_t KeyFrameDatabase::size() const {
-  std::lock_guard lock(mutex_);
-  std::size_t n = 0;
-  for (const auto& list : index_) n += list.size();
-  return n;
-}
-
 template <typename Skip>
 std::vector<KeyFrameDatabase::Shared> KeyFrameDatabase::SharingWords(const vocab::BowVector& bow, Skip skip) const {
   std::unordered_map<const KeyFrame*, std::size_t> at;

@@ -47,7 +47,6 @@ class KeyFrameDatabase {
   // see as a duplicate candidate; do not.
   void Add(const std::shared_ptr<KeyFrame>& kf);
   void Erase(const KeyFrame& kf);
-  std::size_t size() const;
 
   // Keyframes that may show the place a lost frame sees, best pool first.
   std::vector<PlaceCandidate> RelocalisationCandidates(const vocab::BowVector& bow) const;

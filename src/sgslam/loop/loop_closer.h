@@ -78,8 +78,6 @@ class LoopCloser {
   std::optional<VerifiedLoop> Detect(const std::shared_ptr<KeyFrame>& kf, LoopReport& report);
   void Correct(const VerifiedLoop& loop, LoopReport& report);
 
-  int loops_closed() const { return loops_closed_; }
-
   static constexpr int kConsistency = 3;       // consecutive keyframes a candidate must hold over
   static constexpr int kMinBowMatches = 20;    // SE(3) RANSAC's minimum inliers too
   static constexpr int kMinLoopInliers = 40;   // after the neighbourhood's points were added

@@ -70,7 +70,6 @@ class KeyFrame : public std::enable_shared_from_this<KeyFrame> {
   // pose-graph optimisations; a keyframe with one is never culled.
   void AddLoopEdge(const std::shared_ptr<KeyFrame>& other) { loop_edges_[other->id] = other; }
   std::vector<std::shared_ptr<KeyFrame>> LoopEdges() const;
-  bool has_loop_edges() const { return !loop_edges_.empty(); }
   void EraseConnection(std::uint64_t other_id);
 
   // [map] spanning tree (set by the first UpdateConnections: the best covisible).
