@@ -258,18 +258,9 @@ int SearchByBow(const KeyFrame& keyframe, Frame& current, const vocab::FeatureVe
   if (!keyframe.bow) return 0;
   const vocab::FeatureVector& kf_nodes = keyframe.bow->nodes;
   return MatchKeyFrameToFrame(keyframe, current, ratio, [&](const auto& visit) {
-    auto a = kf_nodes.begin();
-    auto b = current_nodes.begin();
-    while (a != kf_nodes.end() && b != current_nodes.end()) {
-      if (a->first < b->first) {
-        ++a;
-      } else if (b->first < a->first) {
-        ++b;
-      } else {
-        for (const std::uint32_t i : a->second) visit(i, b->second);
-        ++a, ++b;
-      }
-    }
+    vocab::ForEachShared(kf_nodes, current_nodes, [&](const auto& a, const auto& b) {
+      for (const std::uint32_t k : a.second) visit(k, b.second);
+    });
   });
 }
 

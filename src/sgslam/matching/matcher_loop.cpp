@@ -46,18 +46,8 @@ std::vector<std::shared_ptr<MapPoint>> SearchByBow(const KeyFrame& kf1, const Ke
       index.push_back(i);
     }
   };
-  auto a = kf1.bow->nodes.begin();
-  auto b = kf2.bow->nodes.begin();
-  while (a != kf1.bow->nodes.end() && b != kf2.bow->nodes.end()) {
-    if (a->first < b->first) {
-      ++a;
-    } else if (b->first < a->first) {
-      ++b;
-    } else {
-      match_node(a->second, b->second);
-      ++a, ++b;
-    }
-  }
+  vocab::ForEachShared(kf1.bow->nodes, kf2.bow->nodes,
+                       [&](const auto& a, const auto& b) { match_node(a.second, b.second); });
   for (std::size_t k : RotationOutliers(diffs)) matched[index[k]].reset();
   return matched;
 }

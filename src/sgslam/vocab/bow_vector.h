@@ -27,10 +27,10 @@ struct BowData {
   FeatureVector nodes;
 };
 
-// DBoW2's L1 score of two L1-normalised vectors, 1 - |a - b|_1 / 2: 1 for equal
-// vectors, 0 for vectors without a common word.
-inline double Score(const BowVector& a, const BowVector& b) {
-  double s = 0;
+// Calls fn(x, y) for each entry x of a and y of b with the same id (both sorted by
+// id): the shared words of two bags, the shared nodes of two direct indexes.
+template <typename A, typename B, typename Fn>
+void ForEachShared(const A& a, const B& b, Fn fn) {
   auto i = a.begin();
   auto j = b.begin();
   while (i != a.end() && j != b.end()) {
@@ -39,10 +39,18 @@ inline double Score(const BowVector& a, const BowVector& b) {
     } else if (j->first < i->first) {
       ++j;
     } else {
-      s += std::min(i->second, j->second);  // (|x| + |y| - |x - y|) / 2
+      fn(*i, *j);
       ++i, ++j;
     }
   }
+}
+
+// DBoW2's L1 score of two L1-normalised vectors, 1 - |a - b|_1 / 2: 1 for equal
+// vectors, 0 for vectors without a common word.
+inline double Score(const BowVector& a, const BowVector& b) {
+  double s = 0;
+  // Each shared word adds (|x| + |y| - |x - y|) / 2.
+  ForEachShared(a, b, [&](const auto& x, const auto& y) { s += std::min(x.second, y.second); });
   return s;
 }
 
