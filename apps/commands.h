@@ -20,6 +20,7 @@ Action AddSynthCommand(CLI::App& root);
 Action AddDemoCommand(CLI::App& root);
 Action AddConfigCommand(CLI::App& root);
 Action AddVocabCommand(CLI::App& root);
+Action AddMapCommand(CLI::App& root);
 
 // Exit statuses shared by every subcommand.
 constexpr int kExitOk = 0;

@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   add(AddDemoCommand(root));
   add(AddConfigCommand(root));
   add(AddVocabCommand(root));
+  add(AddMapCommand(root));
 
   try {
     root.parse(argc, argv);
@@ -43,7 +44,7 @@ int main(int argc, char** argv) {
                           : verbosity == 1 ? spdlog::level::debug
                                            : spdlog::level::info);
   if (root.get_subcommands().empty()) {
-    std::fprintf(stderr, "%s\nerror: a subcommand is required (run, eval, synth, demo, config or vocab)\n", root.help().c_str());
+    std::fprintf(stderr, "%s\nerror: a subcommand is required (run, eval, synth, demo, config, vocab or map)\n", root.help().c_str());
     return kExitUsage;
   }
   try {

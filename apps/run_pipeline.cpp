@@ -20,6 +20,7 @@
 #include "sgslam/io/ply.h"
 #include "sgslam/io/text_file.h"
 #include "sgslam/io/trajectory.h"
+#include "sgslam/mapfile/map_file.h"
 #include "sgslam/system/run_config.h"
 #include "sgslam/system/slam_system.h"
 #include "truth_scorer.h"
@@ -36,7 +37,8 @@ extern "C" void OnInterrupt(int) { g_interrupted = true; }
 extern "C" void OnOctoMapRequest(int) { g_octomap_requested = true; }
 
 // Restores the previous SIGINT and SIGUSR1 handlers on scope exit. SIGUSR1
-// (`kill -USR1 <pid>`) asks for the OctoMap built so far, in octomap.bt.
+// (`kill -USR1 <pid>`) asks for the OctoMap built so far, in octomap.bt, and for
+// the map in the --save-map file.
 class InterruptGuard {
  public:
   InterruptGuard()
@@ -69,6 +71,15 @@ RunConfig Configure(const RunOptions& o) {
   }
   if (options || o.tweak) rc.config.Validate(rc.source);
   return rc;
+}
+
+// Fails before any frame is processed when the map could not be saved to path.
+void CheckWritable(const fs::path& path) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw InputError("--save-map " + path.string() + ": is a folder");
+  const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  fs::create_directories(dir, ec);
+  if (!fs::is_directory(dir, ec)) throw InputError("--save-map " + path.string() + ": cannot create folder " + dir.string());
 }
 
 fs::path MakeOutputFolder(const RunOptions& o, const TumDataset& dataset) {
@@ -116,9 +127,10 @@ FrameLoop RunFrames(const RunOptions& o, const TumDataset& dataset, const Config
       if (g_octomap_requested.exchange(false)) {
         if (SemanticMapper* sem = system.semantic()) {
           sem->RequestOctoMap(out / "octomap.bt");
-        } else {
+        } else if (o.save_map.empty()) {
           spdlog::warn("OctoMap requested (SIGUSR1), but the semantic thread is off (semantic.enabled)");
         }
+        if (!o.save_map.empty()) system.SaveMap(o.save_map);
       }
       if (g_interrupted) {
         spdlog::warn("interrupted: writing the outputs of the {} frames processed", loop.reports.size());
@@ -204,6 +216,8 @@ RunSummary RunSequence(const RunOptions& o) {
   const bool has_detector = detector != nullptr;
   SlamSystem system(config, o.sequential, std::move(detector));
   spdlog::info("mode {}, detector: {}", config.dynamic.mode, system.DescribeDetector());
+  if (!o.save_map.empty()) CheckWritable(o.save_map);
+  if (!o.load_map.empty()) system.LoadMap(mapfile::ReadMapFile(o.load_map), o.load_map);
   if (config.camera.readout > 0) {
     spdlog::info("rolling shutter: rows read out over {:.0f} ms (camera.readout; 0 for a global shutter)",
                  1000 * config.camera.readout);
@@ -213,6 +227,8 @@ RunSummary RunSequence(const RunOptions& o) {
   FrameLoop loop = RunFrames(o, dataset, config, system, truth, s.out, wall);
   system.Finish();
   const double seconds = wall.ElapsedMs() * 1e-3;
+  const std::size_t saved_before = system.maps_saved();
+  if (!o.save_map.empty()) system.SaveMap(o.save_map);  // before the export filters the semantic clouds
 
   WriteFramesCsv(s.out / "frames.csv", loop.reports);
   if (has_detector) WriteDetections(s.out / "detections.txt", loop.reports);
@@ -232,10 +248,17 @@ RunSummary RunSequence(const RunOptions& o) {
   nlohmann::json stats = RunStats(o, config, dataset, loop, system, trajectory, truth, seconds, s);
   if (!semantic.is_null()) stats["semantic"] = semantic;
   if (!loop.failure.empty()) stats["error"] = loop.failure;
+  if (!o.load_map.empty() || !o.save_map.empty()) {
+    stats["map_file"] = {{"loaded", o.load_map}, {"saved", o.save_map}, {"saves", system.maps_saved()}};
+  }
   if (s.frames > 0 && s.tracked == 0) {
     spdlog::warn("no frame was tracked: the map never started, so trajectory.txt and the maps are empty");
   }
   WriteFileAtomically(s.out / "stats.json", stats.dump(2) + "\n");
+  if (!o.save_map.empty() && system.maps_saved() == saved_before) {
+    throw InputError("the map was not saved to " + o.save_map + " (see the error above); the other outputs are in " +
+                     s.out.string());
+  }
   if (!loop.failure.empty()) {
     throw InputError(loop.failure + " (outputs of the " + std::to_string(s.frames) + " frames before it are in " +
                      s.out.string() + ")");

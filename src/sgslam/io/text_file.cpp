@@ -1,5 +1,12 @@
 #include "sgslam/io/text_file.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -51,16 +58,33 @@ double ParseNumber(std::string_view token, const fs::path& path, int line, const
 void WriteFileAtomically(const fs::path& path, const std::string& content) {
   std::error_code ec;
   if (path.has_parent_path()) fs::create_directories(path.parent_path(), ec);
-  const fs::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError("cannot write file: " + tmp.string());
-    out.write(content.data(), static_cast<std::streamsize>(content.size()));
-    out.flush();
-    if (!out) throw InputError("error while writing file (disk full?): " + tmp.string());
+  // A fresh name created exclusively: a file or link planted under a fixed
+  // temporary name is never written through.
+  std::string tmp = path.string() + ".tmp.XXXXXX";
+  const int fd = mkstemp(tmp.data());
+  if (fd < 0) throw InputError("cannot write file: " + path.string() + ": " + std::strerror(errno));
+  const char* data = content.data();
+  std::size_t left = content.size();
+  bool ok = true;
+  while (left > 0 && ok) {
+    const ssize_t n = write(fd, data, left);
+    if (n < 0 && errno == EINTR) continue;
+    ok = n > 0;
+    if (ok) data += n, left -= static_cast<std::size_t>(n);
+  }
+  const std::string why = ok ? "" : std::strerror(errno);
+  ok = ok && fchmod(fd, 0644) == 0;  // as an ordinary new file (mkstemp makes it 0600)
+  if (close(fd) != 0) ok = false;
+  if (!ok) {
+    fs::remove(tmp, ec);
+    throw InputError("error while writing file (disk full?): " + path.string() + (why.empty() ? "" : ": " + why));
   }
   fs::rename(tmp, path, ec);
-  if (ec) throw InputError("cannot rename " + tmp.string() + " to " + path.string() + ": " + ec.message());
+  if (ec) {
+    std::error_code ignored;
+    fs::remove(tmp, ignored);
+    throw InputError("cannot rename " + tmp + " to " + path.string() + ": " + ec.message());
+  }
 }
 
 }  // namespace sgslam

@@ -19,8 +19,9 @@ void ForEachDataLine(const std::filesystem::path& path,
 // Parses a double; throws ParseError(path, line) naming the field when it is not one.
 double ParseNumber(std::string_view token, const std::filesystem::path& path, int line, const char* what);
 
-// Writes to "<path>.tmp" and renames over path, so readers see the old or the new
-// file, never a torn one. Throws InputError naming the path on failure.
+// Writes to a new uniquely named file beside path (created exclusively, so a
+// planted link is never followed) and renames it over path, so readers see the old
+// or the new file, never a torn one; the temporary file is removed on failure. Throws InputError naming the path on failure.
 void WriteFileAtomically(const std::filesystem::path& path, const std::string& content);
 
 }  // namespace sgslam

@@ -154,6 +154,12 @@ void KeyFrame::SetParent(const std::shared_ptr<KeyFrame>& parent) {
 void KeyFrame::AddChild(const std::shared_ptr<KeyFrame>& child) { children_[child->id] = child; }
 void KeyFrame::EraseChild(std::uint64_t child_id) { children_.erase(child_id); }
 
+void KeyFrame::RestoreCulled(std::shared_ptr<KeyFrame> parent, const SE3& T_c_parent) {
+  bad_ = true;
+  T_c_parent_ = T_c_parent;
+  parent_when_culled_ = std::move(parent);
+}
+
 void KeyFrame::SetBad(Map& map) {
   if (id == 0 || bad_ || !loop_edges_.empty()) return;  // the first keyframe anchors the map; loops hold theirs
   for (const auto& [kf_id, entry] : connections_) {

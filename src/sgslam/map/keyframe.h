@@ -86,6 +86,9 @@ class KeyFrame : public std::enable_shared_from_this<KeyFrame> {
   // The parent at the time of culling, held strongly so that the chain from a
   // culled keyframe to a live one never breaks (parents are older: no cycles).
   const std::shared_ptr<KeyFrame>& parent_when_culled() const { return parent_when_culled_; }
+  // A culled keyframe loaded from a saved map (mapfile/), which only anchors the
+  // semantic data made from it: bad, placed relative to parent.
+  void RestoreCulled(std::shared_ptr<KeyFrame> parent, const SE3& T_c_parent);
   // [map] The pose now, for a culled keyframe too: placed on the live keyframe its
   // chain of parents ends at (ORB-SLAM2's trajectory export).
   SE3 PlacedT_c_w() const;

@@ -34,6 +34,13 @@ class Map {
 
   std::uint64_t NewKeyFrameId() { return next_keyframe_id_++; }
   std::uint64_t NewMapPointId() { return next_point_id_++; }
+  // A map loaded from a file (mapfile/): new ids continue after its own.
+  void RestoreIds(std::uint64_t next_keyframe_id, std::uint64_t next_point_id) {
+    next_keyframe_id_ = next_keyframe_id;
+    next_point_id_ = next_point_id;
+  }
+  std::uint64_t next_keyframe_id() const { return next_keyframe_id_; }
+  std::uint64_t next_point_id() const { return next_point_id_; }
 
   // [map] membership; ordered by id so every traversal is deterministic.
   void AddKeyFrame(const std::shared_ptr<KeyFrame>& kf) {

@@ -17,6 +17,31 @@ MapPoint::MapPoint(std::uint64_t point_id, const Eigen::Vector3d& p_w, const std
       p_w_(p_w),
       reference_(reference) {}
 
+MapPoint::MapPoint(std::uint64_t point_id, std::uint64_t first_kf_id, Timestamp created, const Eigen::Vector3d& p_w,
+                   const Appearance& a)
+    : id(point_id),
+      first_keyframe_id(first_kf_id),
+      created_t(created),
+      p_w_(p_w),
+      normal_(a.normal),
+      min_distance_(a.min_distance),
+      max_distance_(a.max_distance),
+      visible_(a.visible),
+      found_(a.found) {
+  std::copy(a.descriptor.begin(), a.descriptor.end(), descriptor_);
+}
+
+MapPoint::Appearance MapPoint::appearance() const {
+  Appearance a;
+  a.normal = normal_;
+  std::copy(descriptor_, descriptor_ + 32, a.descriptor.begin());
+  a.min_distance = min_distance_;
+  a.max_distance = max_distance_;
+  a.visible = visible_.load(std::memory_order_relaxed);
+  a.found = found_.load(std::memory_order_relaxed);
+  return a;
+}
+
 int MapPoint::PredictScale(double distance, const ScaleLevels& scale) const {
   const double ratio = max_distance_ / std::max(distance, 1e-9);
   const int level = static_cast<int>(std::ceil(std::log(ratio) / scale.log_factor));

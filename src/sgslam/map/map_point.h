@@ -6,6 +6,7 @@
 // `mapping` by the local mapping thread only.
 #pragma once
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <map>
@@ -31,6 +32,20 @@ class MapPoint {
   };
 
   MapPoint(std::uint64_t id, const Eigen::Vector3d& p_w, const std::shared_ptr<KeyFrame>& reference);
+
+  // What a saved map keeps of a point beyond its position and observations
+  // (mapfile/): its appearance and tracking's counts, restored exactly.
+  struct Appearance {
+    Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+    std::array<std::uint8_t, 32> descriptor{};
+    double min_distance = 0, max_distance = 0;  // without the tolerance
+    int visible = 1, found = 1;
+  };
+  // A point loaded from a saved map; its observations and reference are added after.
+  MapPoint(std::uint64_t id, std::uint64_t first_keyframe_id, Timestamp created_t, const Eigen::Vector3d& p_w,
+           const Appearance& appearance);
+  Appearance appearance() const;
+  void RestoreReference(const std::shared_ptr<KeyFrame>& reference) { reference_ = reference; }
 
   const std::uint64_t id;
   const std::uint64_t first_keyframe_id;

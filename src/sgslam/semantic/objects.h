@@ -102,7 +102,6 @@ class ObjectDatabase {
   // T_out_w * world (identity: the map frame).
   std::vector<ObjectEstimate> Estimate(const KeyFramePoseFn& pose_of, const SE3& T_out_w = SE3()) const;
 
- private:
   struct Box {
     Eigen::Vector3d min, max;
   };
@@ -113,6 +112,16 @@ class ObjectDatabase {
     std::vector<ObjectObservation> observations;
     Box box;  // world frame, poses at insertion: association only
   };
+  // What the database holds, for saving a map (mapfile/), and restoring it into an
+  // empty database.
+  const std::vector<Object>& objects() const { return objects_; }
+  int next_id() const { return next_id_; }
+  void Restore(std::vector<Object> objects, int next_id) {
+    objects_ = std::move(objects);
+    next_id_ = next_id;
+  }
+
+ private:
   // Percentile extents (a trimmed share cut off at each end of each axis).
   Box BoxOf(const std::vector<Eigen::Vector3d>& points) const;
   // The object's samples in the world frame (T_w_c: per observation) that the other views agree with: a

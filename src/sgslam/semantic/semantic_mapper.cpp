@@ -190,6 +190,48 @@ void SemanticMapper::RequestOctoMap(const std::filesystem::path& path) {
   wake_.notify_one();
 }
 
+void SemanticMapper::RequestState(std::function<void(const SemanticState&)> fn) {
+  if (sequential_ || finished_) {  // this thread is the only one touching the clouds
+    fn(State());
+    return;
+  }
+  {
+    std::lock_guard lock(mutex_);
+    state_request_ = std::move(fn);
+  }
+  wake_.notify_one();
+}
+
+SemanticState SemanticMapper::State() const {
+  SemanticState state;
+  state.clouds.reserve(clouds_.size());
+  for (std::size_t i = 0; i < clouds_.size(); ++i) {
+    const KeyFrameCloud& k = clouds_[i];
+    state.clouds.push_back({k.keyframe, k.points_c, ray_points_[i], k.depth_pooled, k.moving_pooled});
+  }
+  state.objects = objects_.objects();
+  state.next_object_id = objects_.next_id();
+  return state;
+}
+
+void SemanticMapper::Restore(SemanticState state) {
+  std::vector<SE3> T_w_c;
+  {
+    std::shared_lock lock(map_.mutex());
+    for (const SemanticState::Cloud& c : state.clouds) T_w_c.push_back(c.keyframe->PlacedT_c_w().Inverse());
+  }
+  clouds_.clear();
+  ray_points_.clear();
+  octomap_.Clear();
+  for (std::size_t i = 0; i < state.clouds.size(); ++i) {
+    SemanticState::Cloud& c = state.clouds[i];
+    octomap_.Insert(c.points_c, c.rays_c, T_w_c[i]);
+    clouds_.push_back({c.keyframe, std::move(c.points_c), c.depth_pooled, c.moving_pooled});
+    ray_points_.push_back(std::move(c.rays_c));
+  }
+  objects_.Restore(std::move(state.objects), state.next_object_id);
+}
+
 std::size_t SemanticMapper::octomaps_written() const {
   std::lock_guard lock(mutex_);
   return octomaps_written_;
@@ -218,8 +260,16 @@ void SemanticMapper::Loop() {
       // The front keyframe waits for the frames after it (box_window), so that it
       // is masked with the same boxes as in sequential mode.
       wake_.wait(lock, [&] {
-        return stop_ || octomap_request_ || (!queue_.empty() && WindowComplete(queue_.front().keyframe->frame_id));
+        return stop_ || octomap_request_ || state_request_ ||
+               (!queue_.empty() && WindowComplete(queue_.front().keyframe->frame_id));
       });
+      if (state_request_) {
+        const auto fn = std::move(state_request_);
+        state_request_ = nullptr;
+        lock.unlock();
+        fn(State());  // the clouds are this thread's
+        continue;
+      }
       if (octomap_request_) {
         const std::filesystem::path path = *octomap_request_;
         octomap_request_.reset();

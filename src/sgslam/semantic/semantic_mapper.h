@@ -24,6 +24,7 @@
 #include <condition_variable>
 #include <deque>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <utility>
 #include <mutex>
@@ -52,6 +53,21 @@ struct SemanticInput {
   std::shared_ptr<KeyFrame> keyframe;
   cv::Mat bgr;    // the keyframe's colour image (shared, never written)
   cv::Mat depth;  // raw 16-bit depth
+};
+
+// What the semantic map is made of, to save a map and load it again (mapfile/):
+// each keyframe's static cloud with the data the export's filters and the OctoMap
+// need, and the object database. The OctoMap is rebuilt from the clouds.
+struct SemanticState {
+  struct Cloud {
+    std::shared_ptr<KeyFrame> keyframe;
+    std::vector<ColoredPoint> points_c;  // static points, camera frame
+    std::vector<ColoredPoint> rays_c;    // the free-space ray ends (kOctoMapRayStride)
+    cv::Mat depth_pooled, moving_pooled;  // CV_32F (see KeyFrameCloud); may be empty
+  };
+  std::vector<Cloud> clouds;
+  std::vector<ObjectDatabase::Object> objects;
+  int next_object_id = 1;
 };
 
 struct SemanticStats {
@@ -86,6 +102,16 @@ class SemanticMapper {
   void RequestOctoMap(const std::filesystem::path& path);
   std::size_t octomaps_written() const;
   bool has_keyframe_detector() const { return has_keyframe_detector_; }
+
+  // Calls fn with the semantic map's state (copies; keyframes shared): at once in
+  // sequential mode or after Finish(), else on the semantic thread after the
+  // keyframe it is on, so fn must not block for long (copy, then hand over). fn may
+  // take the map's lock (the worker holds none of its own then).
+  void RequestState(std::function<void(const SemanticState&)> fn);
+  // Starts from a saved state (before the first Submit; the keyframes are in the
+  // map): the clouds, the objects, and the OctoMap built again with the keyframes'
+  // poses now.
+  void Restore(SemanticState state);
 
   // For observers (system/snapshot.h): once enabled (before the first Submit), each
   // keyframe's cloud and the objects estimated after it are published; Published()
@@ -183,6 +209,8 @@ class SemanticMapper {
   std::deque<FrameBoxes> frames_;    // the last frames (a bounded history), by frame id
   std::optional<std::uint64_t> last_frame_id_;
   std::optional<std::filesystem::path> octomap_request_;  // guarded by mutex_
+  std::function<void(const SemanticState&)> state_request_;  // guarded by mutex_
+  SemanticState State() const;  // the worker (or the only thread)
   std::size_t octomaps_written_ = 0;                      // guarded by mutex_
   void WriteLiveOctoMap(const std::filesystem::path& path);  // the worker (or the only thread)
   mutable SemanticStats stats_;

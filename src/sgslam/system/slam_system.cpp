@@ -197,6 +197,8 @@ void SlamSystem::Stop(bool final_ba) {
   // the keyframes, so it follows; so do the semantic cloud and objects.
   if (final_ba && config_.mapping.final_ba_iterations > 0) final_ba_ = mapper_.GlobalBundleAdjustment();
   if (semantic_) semantic_->Finish();  // after local mapping: nothing feeds it any more
+  std::lock_guard lock(save_mutex_);  // a save in flight ends (the semantic thread has served every request)
+  if (saver_.joinable()) saver_.join();
 }
 
 void SlamSystem::MappingLoop() {

@@ -11,6 +11,7 @@
 #pragma once
 
 #include <atomic>
+#include <filesystem>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -25,6 +26,7 @@
 #include "sgslam/io/tum_dataset.h"
 #include "sgslam/loop/loop_closer.h"
 #include "sgslam/map/map.h"
+#include "sgslam/mapfile/map_data.h"
 #include "sgslam/mapping/global_ba.h"
 #include "sgslam/mapping/local_mapper.h"
 #include "sgslam/semantic/semantic_mapper.h"
@@ -110,6 +112,19 @@ class SlamSystem {
   std::shared_ptr<const FrameSnapshot> LatestFrame() const;
   MapSnapshot SnapshotMap() const;
 
+  // Map reuse (mapfile/). LoadMap: before the first Process(), into the empty map;
+  // needs place recognition; throws InputError naming `what` when the map does not
+  // suit this run (camera, ORB pyramid, vocabulary), and then the system is left as
+  // it was. The first frame is then relocalised in the map.
+  void LoadMap(const mapfile::MapData& data, const std::string& what);
+  // Writes the whole map to path, atomically, without stopping tracking: the map is
+  // copied (by the semantic thread after the keyframe it is on, when there is one)
+  // and written on a thread of its own. Synchronous in sequential mode and after
+  // Finish(). A request while a save is in flight is refused (false). Failures are
+  // logged; maps_saved() counts the files written.
+  bool SaveMap(const std::filesystem::path& path);
+  std::size_t maps_saved() const { return maps_saved_; }
+
   std::string DescribeDetector() const {
     std::string s = dynamic_.DescribeDetector();
     if (semantic_ && semantic_->has_keyframe_detector()) s += "; keyframes also through " + config_.semantic.keyframe_model + " for the map";
@@ -180,6 +195,15 @@ class SlamSystem {
   std::atomic<bool> gba_abort_{false};
   std::vector<GlobalBaReport> gba_reports_;  // guarded by stats_mutex_
   bool finished_ = false;
+  // Map saving (SaveMap): one save at a time; the writer thread is started by the
+  // thread that copied the map (the semantic one, or this one) under save_mutex_.
+  // now: write in this thread (sequential, finished), else on saver_.
+  void SaveCaptured(const std::filesystem::path& path, const SemanticState* semantic, std::uint64_t next_frame_id,
+                    bool now);
+  std::atomic<bool> saving_{false};
+  std::atomic<std::size_t> maps_saved_{0};
+  std::mutex save_mutex_;  // guards saver_; never held with another lock
+  std::thread saver_;
   std::atomic<bool> snapshots_{false};
   mutable std::mutex frame_snapshot_mutex_;  // guards latest_frame_
   std::shared_ptr<const FrameSnapshot> latest_frame_;

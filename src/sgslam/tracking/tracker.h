@@ -78,6 +78,10 @@ class Tracker {
   // the map has moved on from its first keyframe.
   int ConfirmStaticInFirstKeyFrame(const std::vector<std::uint8_t>& now_static);
 
+  // The map was loaded from a file (mapfile/): no initialisation; the next frame
+  // is relocalised in it, as after a loss.
+  void StartInMap() { state_ = TrackState::kLost; }
+
   TrackState state() const { return state_; }
   // The camera-frame angular velocity (rad/s) of that prediction, for the rolling
   // shutter correction of the next frame's keypoints; none when there is none.

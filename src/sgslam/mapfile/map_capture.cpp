@@ -1,0 +1,329 @@
+#include "sgslam/mapfile/map_capture.h"
+
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <map>
+
+#include "sgslam/common/error.h"
+
+namespace sgslam::mapfile {
+
+namespace {
+
+Pose ToPose(const SE3& T) {
+  const Eigen::Quaterniond& q = T.quaternion();
+  return {{q.x(), q.y(), q.z(), q.w()}, {T.translation().x(), T.translation().y(), T.translation().z()}};
+}
+
+SE3 FromPose(const Pose& p) {
+  return SE3(Eigen::Quaterniond(p.q[3], p.q[0], p.q[1], p.q[2]), Eigen::Vector3d(p.t[0], p.t[1], p.t[2]));
+}
+
+std::string UtcNow() {
+  const std::time_t now = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return text;
+}
+
+void CaptureFeatures(const Features& f, KeyFrameData& k) {
+  const std::size_t n = f.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const cv::KeyPoint& p = f.keys[i];
+    k.keys.push_back({p.pt.x, p.pt.y, p.size, p.angle, p.response, p.octave});
+    k.keys_un.push_back({f.keys_un[i].pt.x, f.keys_un[i].pt.y});
+  }
+  k.depth = f.depth;
+  k.u_right = f.u_right;
+  k.descriptors.resize(32 * n);
+  for (std::size_t i = 0; i < n; ++i) std::copy(f.descriptor(i), f.descriptor(i) + 32, k.descriptors.begin() + 32 * i);
+  k.dynamic = f.dynamic;
+  k.unjudged = f.unjudged;
+  for (const Detection& d : f.detections) {
+    k.detections.push_back({d.class_id, d.class_name, d.score, {d.box.x, d.box.y, d.box.width, d.box.height}, d.carried});
+  }
+  k.angular_velocity = {f.angular_velocity.x(), f.angular_velocity.y(), f.angular_velocity.z()};
+}
+
+KeyFrameData CaptureKeyFrame(const KeyFrame& kf) {
+  KeyFrameData k;
+  k.id = kf.id;
+  k.frame_id = kf.frame_id;
+  k.t = kf.t;
+  k.T_c_w = ToPose(kf.T_c_w());
+  if (kf.bad()) {
+    k.culled = true;
+    if (const auto& parent = kf.parent_when_culled()) k.parent = parent->id;
+    k.T_c_parent = ToPose(kf.T_c_parent());
+    return k;
+  }
+  if (const auto parent = kf.parent()) k.parent = parent->id;
+  CaptureFeatures(*kf.features, k);
+  if (kf.bow) {
+    k.has_bow = true;
+    k.bow_words = kf.bow->words;
+    k.bow_nodes = kf.bow->nodes;
+  }
+  for (const auto& p : kf.map_points()) k.point_ids.push_back(p && !p->bad() ? p->id : kNoId);
+  for (std::uint64_t other : kf.ConnectedIds()) k.connections.emplace_back(other, kf.Weight(other));
+  for (const auto& other : kf.LoopEdges()) k.loop_edges.push_back(other->id);
+  return k;
+}
+
+MapPointData CapturePoint(const MapPoint& p) {
+  MapPointData d;
+  d.id = p.id;
+  d.first_keyframe_id = p.first_keyframe_id;
+  d.created_t = p.created_t;
+  d.position = {p.position().x(), p.position().y(), p.position().z()};
+  const MapPoint::Appearance a = p.appearance();
+  d.normal = {a.normal.x(), a.normal.y(), a.normal.z()};
+  d.descriptor = a.descriptor;
+  d.min_distance = a.min_distance;
+  d.max_distance = a.max_distance;
+  d.visible = a.visible;
+  d.found = a.found;
+  if (const auto ref = p.reference_keyframe()) d.reference = ref->id;
+  for (const auto& [kf_id, obs] : p.observations()) d.observations.emplace_back(kf_id, static_cast<std::uint32_t>(obs.index));
+  return d;
+}
+
+std::vector<ColoredPointData> ToData(const std::vector<ColoredPoint>& points) {
+  std::vector<ColoredPointData> out;
+  out.reserve(points.size());
+  for (const ColoredPoint& p : points) out.push_back({{p.p.x(), p.p.y(), p.p.z()}, p.rgb});
+  return out;
+}
+
+ImageData ToData(const cv::Mat& image) {
+  ImageData d;
+  if (image.empty()) return d;
+  d.rows = image.rows;
+  d.cols = image.cols;
+  d.pixels.reserve(image.total());
+  for (int r = 0; r < image.rows; ++r) d.pixels.insert(d.pixels.end(), image.ptr<float>(r), image.ptr<float>(r) + image.cols);
+  return d;
+}
+
+ObjectData ToData(const ObjectDatabase::Object& o) {
+  ObjectData d{o.id, o.class_id, o.class_name, {}, {o.box.min.x(), o.box.min.y(), o.box.min.z()},
+               {o.box.max.x(), o.box.max.y(), o.box.max.z()}};
+  for (const ObjectObservation& obs : o.observations) {
+    ObjectObservationData od;
+    od.keyframe = obs.keyframe ? obs.keyframe->id : kNoId;
+    od.class_id = obs.class_id;
+    od.class_name = obs.class_name;
+    od.score = obs.score;
+    od.box = {obs.box.x, obs.box.y, obs.box.width, obs.box.height};
+    od.T_w_c_added = ToPose(obs.T_w_c_added);
+    for (const Eigen::Vector3f& p : obs.points_c) od.points_c.push_back({p.x(), p.y(), p.z()});
+    od.cut = obs.cut;
+    d.observations.push_back(std::move(od));
+  }
+  return d;
+}
+
+// The semantic layer, and every keyframe it is anchored to that the map no longer
+// has (culled), with the culled parents those are placed on.
+void CaptureSemantic(const SemanticState& s, std::map<std::uint64_t, const KeyFrame*>& keyframes, MapData& d) {
+  d.semantic.present = true;
+  const auto anchor = [&](const std::shared_ptr<KeyFrame>& kf) {
+    for (const KeyFrame* k = kf.get(); k && !keyframes.count(k->id); k = k->parent_when_culled().get()) {
+      keyframes[k->id] = k;
+    }
+  };
+  for (const SemanticState::Cloud& c : s.clouds) {
+    anchor(c.keyframe);
+    d.semantic.clouds.push_back({c.keyframe->id, ToData(c.points_c), ToData(c.rays_c), ToData(c.depth_pooled),
+                                 ToData(c.moving_pooled)});
+  }
+  for (const ObjectDatabase::Object& o : s.objects) {
+    for (const ObjectObservation& obs : o.observations) {
+      if (obs.keyframe) anchor(obs.keyframe);
+    }
+    d.semantic.objects.push_back(ToData(o));
+  }
+  d.semantic.next_object_id = s.next_object_id;
+}
+
+}  // namespace
+
+MapData CaptureMap(const Map& map, const Settings& settings, std::uint64_t next_frame_id,
+                   const SemanticState* semantic) {
+  MapData d;
+  d.created = UtcNow();
+  d.settings = settings;
+  std::map<std::uint64_t, const KeyFrame*> keyframes;
+  for (const auto& [id, kf] : map.keyframes()) keyframes[id] = kf.get();
+  for (const auto& kf : PendingKeyFrames(map)) keyframes[kf->id] = kf.get();
+  if (semantic) CaptureSemantic(*semantic, keyframes, d);
+  std::uint64_t next_kf = 0;
+  for (const auto& [id, kf] : keyframes) {
+    d.keyframes.push_back(CaptureKeyFrame(*kf));
+    next_kf = id + 1;
+  }
+  std::uint64_t next_point = 0;
+  for (const auto& [id, p] : map.map_points()) {
+    if (p->bad()) continue;
+    d.points.push_back(CapturePoint(*p));
+    next_point = id + 1;
+  }
+  // New ids continue after every id the map ever gave (culled entities' too).
+  d.next_keyframe_id = std::max(next_kf, map.next_keyframe_id());
+  d.next_point_id = std::max(next_point, map.next_point_id());
+  d.next_frame_id = next_frame_id;
+  return d;
+}
+
+Settings RunSettings(const CameraConfig& camera, double orb_scale_factor, int orb_levels,
+                     const std::string& vocabulary_checksum) {
+  return {camera, orb_scale_factor, orb_levels, vocabulary_checksum};
+}
+
+void CheckCompatible(const Settings& saved, const Settings& run, const std::string& what) {
+  const auto fail = [&](const std::string& why) {
+    throw InputError("map file " + what + " cannot be used with this run: " + why);
+  };
+  CameraConfig a = saved.camera, b = run.camera;
+  std::vector<std::pair<std::string, double>> va;
+  std::vector<double> vb;
+  a.Visit([&](const char* name, auto& v, const char*) { va.emplace_back(name, static_cast<double>(v)); });
+  b.Visit([&](const char*, auto& v, const char*) { vb.push_back(static_cast<double>(v)); });
+  for (std::size_t i = 0; i < va.size(); ++i) {
+    const std::string& name = va[i].first;
+    if (name == "fps" || name == "readout" || name == "close_depth") continue;  // how it is run, not the map
+    if (std::abs(va[i].second - vb[i]) > 1e-9 * std::max(1.0, std::abs(vb[i]))) {
+      fail("it was made with camera." + name + " " + std::to_string(va[i].second) + ", this run has " +
+           std::to_string(vb[i]));
+    }
+  }
+  if (saved.orb_levels != run.orb_levels || saved.orb_scale_factor != run.orb_scale_factor) {
+    fail("it was made with orb.levels " + std::to_string(saved.orb_levels) + " and orb.scale_factor " +
+         std::to_string(saved.orb_scale_factor) + ", this run has " + std::to_string(run.orb_levels) + " and " +
+         std::to_string(run.orb_scale_factor));
+  }
+  if (run.vocabulary_checksum.empty()) fail("loading a map needs place recognition (loop.enabled: true)");
+  if (saved.vocabulary_checksum != run.vocabulary_checksum) {
+    fail("it was made with another vocabulary (sha256 " + saved.vocabulary_checksum.substr(0, 16) + "..., this run's is " +
+         run.vocabulary_checksum.substr(0, 16) + "...; loop.vocabulary)");
+  }
+}
+
+namespace {
+
+std::shared_ptr<const Features> RestoreFeatures(const KeyFrameData& k, const std::shared_ptr<const Camera>& camera,
+                                                const std::shared_ptr<const ScaleLevels>& scale) {
+  auto f = std::make_shared<Features>();
+  f->camera = camera;
+  f->scale = scale;
+  f->bounds = UndistortedBounds(*camera);
+  const std::size_t n = k.keys.size();
+  for (std::size_t i = 0; i < n; ++i) {
+    const KeyPointData& p = k.keys[i];
+    f->keys.emplace_back(cv::Point2f(p.x, p.y), p.size, p.angle, p.response, p.octave);
+    f->keys_un.push_back(f->keys.back());
+    f->keys_un.back().pt = cv::Point2f(k.keys_un[i][0], k.keys_un[i][1]);
+  }
+  f->depth = k.depth;
+  f->u_right = k.u_right;
+  f->descriptors = cv::Mat(static_cast<int>(n), 32, CV_8U);
+  if (n > 0) std::copy(k.descriptors.begin(), k.descriptors.end(), f->descriptors.ptr<std::uint8_t>(0));
+  f->grid = FeatureGrid(f->keys_un, f->bounds);
+  f->dynamic = k.dynamic;
+  f->unjudged = k.unjudged;
+  for (const DetectionData& d : k.detections) {
+    f->detections.push_back({d.class_id, d.class_name, d.score, cv::Rect2f(d.box[0], d.box[1], d.box[2], d.box[3]), d.carried});
+  }
+  f->angular_velocity = Eigen::Vector3d(k.angular_velocity[0], k.angular_velocity[1], k.angular_velocity[2]);
+  return f;
+}
+
+std::vector<ColoredPoint> FromData(const std::vector<ColoredPointData>& points) {
+  std::vector<ColoredPoint> out;
+  out.reserve(points.size());
+  for (const ColoredPointData& p : points) out.push_back({Eigen::Vector3f(p.p[0], p.p[1], p.p[2]), p.rgb});
+  return out;
+}
+
+cv::Mat FromData(const ImageData& d) {
+  if (d.rows == 0 || d.cols == 0) return {};
+  cv::Mat m(d.rows, d.cols, CV_32F);
+  std::copy(d.pixels.begin(), d.pixels.end(), m.ptr<float>(0));
+  return m;
+}
+
+ObjectDatabase::Object FromData(const ObjectData& d, const std::map<std::uint64_t, std::shared_ptr<KeyFrame>>& kfs) {
+  ObjectDatabase::Object o{d.id, d.class_id, d.class_name, {},
+                           {Eigen::Vector3d(d.box_min[0], d.box_min[1], d.box_min[2]),
+                            Eigen::Vector3d(d.box_max[0], d.box_max[1], d.box_max[2])}};
+  for (const ObjectObservationData& od : d.observations) {
+    ObjectObservation obs;
+    if (od.keyframe != kNoId) obs.keyframe = kfs.at(od.keyframe);
+    obs.class_id = od.class_id;
+    obs.class_name = od.class_name;
+    obs.score = od.score;
+    obs.box = cv::Rect2f(od.box[0], od.box[1], od.box[2], od.box[3]);
+    obs.T_w_c_added = FromPose(od.T_w_c_added);
+    for (const auto& p : od.points_c) obs.points_c.emplace_back(p[0], p[1], p[2]);
+    obs.cut = od.cut;
+    o.observations.push_back(std::move(obs));
+  }
+  return o;
+}
+
+void RestoreGraph(const MapData& data, const std::map<std::uint64_t, std::shared_ptr<KeyFrame>>& kfs) {
+  for (const KeyFrameData& k : data.keyframes) {
+    const auto& kf = kfs.at(k.id);
+    const auto parent = k.parent == kNoId ? nullptr : kfs.at(k.parent);
+    if (k.culled) {
+      kf->RestoreCulled(parent, FromPose(k.T_c_parent));
+      continue;
+    }
+    if (parent) kf->SetParent(parent);
+    for (const auto& [other, weight] : k.connections) kf->AddConnection(kfs.at(other), weight);
+    for (std::uint64_t other : k.loop_edges) kf->AddLoopEdge(kfs.at(other));
+  }
+}
+
+}  // namespace
+
+SemanticState RestoreMap(const MapData& data, Map& map, const std::shared_ptr<const Camera>& camera,
+                         const std::shared_ptr<const ScaleLevels>& scale) {
+  std::unique_lock lock(map.mutex());
+  std::map<std::uint64_t, std::shared_ptr<KeyFrame>> kfs;
+  for (const KeyFrameData& k : data.keyframes) {
+    auto kf = std::make_shared<KeyFrame>(k.id, k.frame_id, k.t, RestoreFeatures(k, camera, scale), FromPose(k.T_c_w));
+    if (k.has_bow) kf->bow = std::make_shared<const vocab::BowData>(vocab::BowData{k.bow_words, k.bow_nodes});
+    kfs[k.id] = kf;
+    if (!k.culled) map.AddKeyFrame(kf);
+  }
+  RestoreGraph(data, kfs);
+  for (const MapPointData& d : data.points) {
+    MapPoint::Appearance a{Eigen::Vector3d(d.normal[0], d.normal[1], d.normal[2]), d.descriptor, d.min_distance,
+                           d.max_distance, d.visible, d.found};
+    auto p = std::make_shared<MapPoint>(d.id, d.first_keyframe_id, d.created_t,
+                                        Eigen::Vector3d(d.position[0], d.position[1], d.position[2]), a);
+    for (const auto& [kf_id, index] : d.observations) {
+      const auto& kf = kfs.at(kf_id);
+      p->AddObservation(kf, index);
+      kf->SetMapPoint(index, p);
+    }
+    if (d.reference != kNoId) p->RestoreReference(kfs.at(d.reference));
+    map.AddMapPoint(p);
+  }
+  map.RestoreIds(data.next_keyframe_id, data.next_point_id);
+
+  SemanticState semantic;
+  for (const CloudData& c : data.semantic.clouds) {
+    semantic.clouds.push_back({kfs.at(c.keyframe), FromData(c.points_c), FromData(c.rays_c), FromData(c.depth_pooled),
+                               FromData(c.moving_pooled)});
+  }
+  for (const ObjectData& o : data.semantic.objects) semantic.objects.push_back(FromData(o, kfs));
+  semantic.next_object_id = data.semantic.next_object_id;
+  return semantic;
+}
+
+}  // namespace sgslam::mapfile

@@ -1,0 +1,333 @@
+#include "sgslam/mapfile/map_file.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include <Eigen/Core>
+#include <cereal/archives/portable_binary.hpp>
+#include <cereal/types/array.hpp>
+#include <cereal/types/string.hpp>
+#include <cereal/types/utility.hpp>
+#include <cereal/types/vector.hpp>
+
+#include "sgslam/common/error.h"
+#include "sgslam/common/sha256.h"
+#include "sgslam/io/text_file.h"
+
+namespace sgslam::mapfile {
+
+// cereal finds these by argument-dependent lookup.
+template <class A>
+void serialize(A& ar, Pose& p) {
+  ar(p.q, p.t);
+}
+template <class A>
+void serialize(A& ar, KeyPointData& k) {
+  ar(k.x, k.y, k.size, k.angle, k.response, k.octave);
+}
+template <class A>
+void serialize(A& ar, DetectionData& d) {
+  ar(d.class_id, d.class_name, d.score, d.box, d.carried);
+}
+template <class A>
+void serialize(A& ar, ImageData& i) {
+  ar(i.rows, i.cols, i.pixels);
+}
+template <class A>
+void serialize(A& ar, KeyFrameData& k) {
+  ar(k.id, k.frame_id, k.t, k.T_c_w, k.culled, k.parent, k.T_c_parent);
+  ar(k.keys, k.keys_un, k.depth, k.u_right, k.descriptors, k.dynamic, k.unjudged, k.detections, k.angular_velocity);
+  ar(k.has_bow, k.bow_words, k.bow_nodes, k.point_ids, k.connections, k.loop_edges);
+}
+template <class A>
+void serialize(A& ar, MapPointData& p) {
+  ar(p.id, p.first_keyframe_id, p.created_t, p.position, p.normal, p.descriptor, p.min_distance, p.max_distance,
+     p.visible, p.found, p.reference, p.observations);
+}
+template <class A>
+void serialize(A& ar, ColoredPointData& p) {
+  ar(p.p, p.rgb);
+}
+template <class A>
+void serialize(A& ar, CloudData& c) {
+  ar(c.keyframe, c.points_c, c.rays_c, c.depth_pooled, c.moving_pooled);
+}
+template <class A>
+void serialize(A& ar, ObjectObservationData& o) {
+  ar(o.keyframe, o.class_id, o.class_name, o.score, o.box, o.T_w_c_added, o.points_c, o.cut);
+}
+template <class A>
+void serialize(A& ar, ObjectData& o) {
+  ar(o.id, o.class_id, o.class_name, o.observations, o.box_min, o.box_max);
+}
+template <class A>
+void serialize(A& ar, SemanticData& s) {
+  ar(s.present, s.clouds, s.objects, s.next_object_id);
+}
+template <class A>
+void serialize(A& ar, Settings& s) {
+  s.camera.Visit([&](const char*, auto& value, const char*) { ar(value); });
+  ar(s.orb_scale_factor, s.orb_levels, s.vocabulary_checksum);
+}
+template <class A>
+void serialize(A& ar, MapData& m) {
+  ar(m.created, m.settings, m.next_keyframe_id, m.next_point_id, m.next_frame_id, m.keyframes, m.points, m.semantic);
+}
+
+static_assert(std::endian::native == std::endian::little, "the map file's header is read and written little-endian");
+
+namespace {
+
+constexpr char kMagic[8] = {'S', 'G', 'M', 'A', 'P', '\0', '\0', '\0'};
+constexpr std::size_t kHeaderBytes = 8 + 4 + 8 + 32;
+
+std::string Sha256Bytes(const std::string& bytes) {
+  const std::string hex = Sha256Hex(bytes);
+  std::string raw(32, '\0');
+  for (std::size_t i = 0; i < 32; ++i) raw[i] = static_cast<char>(std::stoi(hex.substr(2 * i, 2), nullptr, 16));
+  return raw;
+}
+
+[[noreturn]] void Fail(const std::string& what, const std::string& why) {
+  throw InputError("map file " + what + ": " + why);
+}
+
+}  // namespace
+
+std::string Encode(const MapData& data) {
+  std::ostringstream payload_stream(std::ios::binary);
+  {
+    cereal::PortableBinaryOutputArchive ar(payload_stream);
+    ar(const_cast<MapData&>(data));  // cereal's serialize() is one function for both directions
+  }
+  const std::string payload = payload_stream.str();
+  std::string out(kMagic, sizeof kMagic);
+  const std::uint32_t version = kFormatVersion;
+  const std::uint64_t size = payload.size();
+  out.append(reinterpret_cast<const char*>(&version), sizeof version);
+  out.append(reinterpret_cast<const char*>(&size), sizeof size);
+  out += Sha256Bytes(payload);
+  out += payload;
+  return out;
+}
+
+MapData Decode(const std::string& bytes, const std::string& what) {
+  if (bytes.size() < kHeaderBytes) Fail(what, "too short for a map file (" + std::to_string(bytes.size()) + " bytes)");
+  if (std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) Fail(what, "not an sgslam map file (wrong magic)");
+  std::uint32_t version = 0;
+  std::uint64_t size = 0;
+  std::memcpy(&version, bytes.data() + 8, sizeof version);
+  std::memcpy(&size, bytes.data() + 12, sizeof size);
+  if (version != kFormatVersion) {
+    Fail(what, "format version " + std::to_string(version) + "; this sgslam reads version " +
+                   std::to_string(kFormatVersion));
+  }
+  if (size != bytes.size() - kHeaderBytes) {
+    Fail(what, "truncated or padded: the header says " + std::to_string(size) + " payload bytes, the file has " +
+                   std::to_string(bytes.size() - kHeaderBytes));
+  }
+  const std::string payload = bytes.substr(kHeaderBytes);
+  if (Sha256Bytes(payload) != bytes.substr(20, 32)) Fail(what, "checksum mismatch (the file is corrupt)");
+  MapData data;
+  try {
+    std::istringstream in(payload, std::ios::binary);
+    cereal::PortableBinaryInputArchive ar(in);
+    ar(data);
+    if (in.peek() != std::char_traits<char>::eof()) Fail(what, "bytes left over after the map (corrupt)");
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {  // cereal::Exception, or a size that cannot be allocated
+    Fail(what, std::string("cannot decode the map (corrupt): ") + e.what());
+  }
+  CheckMapData(data, what);
+  return data;
+}
+
+void WriteMapFile(const std::filesystem::path& path, const MapData& data) {
+  WriteFileAtomically(path, Encode(data));
+}
+
+MapData ReadMapFile(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) Fail(path.string(), "not found (or not a file)");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) Fail(path.string(), "cannot open");
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) Fail(path.string(), "read error");
+  return Decode(bytes, path.string());
+}
+
+namespace {
+
+bool Finite(const Pose& p) {
+  const double n = std::sqrt(p.q[0] * p.q[0] + p.q[1] * p.q[1] + p.q[2] * p.q[2] + p.q[3] * p.q[3]);
+  return std::all_of(p.t.begin(), p.t.end(), [](double v) { return std::isfinite(v); }) && std::abs(n - 1) < 1e-6;
+}
+
+template <typename C>
+bool AllFinite(const C& c) {
+  return std::all_of(c.begin(), c.end(), [](auto v) { return std::isfinite(v); });
+}
+
+// The checks of one keyframe's own arrays; "" when they are consistent.
+std::string CheckKeyFrameArrays(const KeyFrameData& k, int levels) {
+  const std::size_t n = k.keys.size();
+  if (!Finite(k.T_c_w) || !Finite(k.T_c_parent)) return "a pose is not finite or not a rotation";
+  if (k.culled) return n == 0 ? "" : "a culled keyframe with keypoints";
+  if (k.keys_un.size() != n || k.depth.size() != n || k.u_right.size() != n || k.point_ids.size() != n ||
+      k.descriptors.size() != 32 * n || (!k.dynamic.empty() && k.dynamic.size() != n) ||
+      (!k.unjudged.empty() && k.unjudged.size() != n)) {
+    return "per-keypoint arrays of different lengths";
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const KeyPointData& p = k.keys[i];
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !AllFinite(k.keys_un[i]) || p.octave < 0 || p.octave >= levels) {
+      return "keypoint " + std::to_string(i) + " is out of range";
+    }
+  }
+  if (!AllFinite(k.depth) || !AllFinite(k.u_right) || !AllFinite(k.angular_velocity)) return "a depth is not finite";
+  for (const auto& [node, indices] : k.bow_nodes) {
+    if (std::any_of(indices.begin(), indices.end(), [&](std::uint32_t i) { return i >= n; })) {
+      return "a bag-of-words entry names a keypoint it does not have";
+    }
+  }
+  return "";
+}
+
+void CheckKeyFrames(const MapData& d, const std::string& what, std::map<std::uint64_t, const KeyFrameData*>& kfs) {
+  for (const KeyFrameData& k : d.keyframes) {
+    if (k.id >= d.next_keyframe_id || !kfs.emplace(k.id, &k).second) Fail(what, "keyframe id " + std::to_string(k.id) + " repeated or out of range");
+    if (const std::string why = CheckKeyFrameArrays(k, d.settings.orb_levels); !why.empty()) {
+      Fail(what, "keyframe " + std::to_string(k.id) + ": " + why);
+    }
+  }
+  // Parent chains end (PlacedT_c_w and the spanning tree walk them).
+  std::map<std::uint64_t, int> state;  // 1: being walked, 2: ends
+  for (const KeyFrameData& k : d.keyframes) {
+    std::vector<std::uint64_t> chain;
+    for (std::uint64_t id = k.id; id != kNoId && kfs.count(id) && state[id] != 2; id = kfs.at(id)->parent) {
+      if (state[id] == 1) Fail(what, "keyframe " + std::to_string(id) + " is its own ancestor");
+      state[id] = 1;
+      chain.push_back(id);
+    }
+    for (std::uint64_t id : chain) state[id] = 2;
+  }
+  std::set<std::uint64_t> point_ids;
+  for (const MapPointData& p : d.points) point_ids.insert(p.id);
+  for (const KeyFrameData& k : d.keyframes) {
+    const auto live = [&](std::uint64_t id) { return kfs.count(id) && !kfs.at(id)->culled; };
+    bool ok = k.parent == kNoId || (kfs.count(k.parent) && k.parent != k.id);
+    for (const auto& [other, weight] : k.connections) ok = ok && live(other) && other != k.id;
+    for (std::uint64_t other : k.loop_edges) ok = ok && live(other);
+    for (std::uint64_t p : k.point_ids) ok = ok && (p == kNoId || point_ids.count(p));
+    if (!ok) Fail(what, "keyframe " + std::to_string(k.id) + " refers to a keyframe or point the map does not have");
+  }
+}
+
+void CheckPoints(const MapData& d, const std::string& what, const std::map<std::uint64_t, const KeyFrameData*>& kfs) {
+  std::uint64_t last = 0;
+  for (std::size_t i = 0; i < d.points.size(); ++i) {
+    const MapPointData& p = d.points[i];
+    const std::string name = "map point " + std::to_string(p.id);
+    if (p.id >= d.next_point_id || (i > 0 && p.id <= last)) Fail(what, name + ": id repeated, unordered or out of range");
+    last = p.id;
+    if (!AllFinite(p.position) || !AllFinite(p.normal) || !std::isfinite(p.min_distance) || !std::isfinite(p.max_distance)) {
+      Fail(what, name + ": not finite");
+    }
+    if (p.observations.empty() || (p.reference != kNoId && !kfs.count(p.reference))) Fail(what, name + ": no observation, or an unknown reference");
+    for (const auto& [kf, index] : p.observations) {
+      const auto it = kfs.find(kf);
+      if (it == kfs.end() || it->second->culled || index >= it->second->point_ids.size() ||
+          it->second->point_ids[index] != p.id) {
+        Fail(what, name + ": an observation does not match its keyframe");
+      }
+    }
+  }
+}
+
+void CheckSemantic(const MapData& d, const std::string& what, const std::map<std::uint64_t, const KeyFrameData*>& kfs) {
+  const auto image_ok = [](const ImageData& i) {
+    return i.rows >= 0 && i.cols >= 0 && i.pixels.size() == static_cast<std::size_t>(i.rows) * i.cols;
+  };
+  for (const CloudData& c : d.semantic.clouds) {
+    if (!kfs.count(c.keyframe) || !image_ok(c.depth_pooled) || !image_ok(c.moving_pooled)) {
+      Fail(what, "a cloud of keyframe " + std::to_string(c.keyframe) + " is inconsistent");
+    }
+  }
+  for (const ObjectData& o : d.semantic.objects) {
+    for (const ObjectObservationData& obs : o.observations) {
+      if ((obs.keyframe != kNoId && !kfs.count(obs.keyframe)) || !Finite(obs.T_w_c_added)) {
+        Fail(what, "object " + std::to_string(o.id) + " has an observation of an unknown keyframe");
+      }
+    }
+  }
+}
+
+}  // namespace
+
+void CheckMapData(const MapData& d, const std::string& what) {
+  if (d.settings.orb_levels <= 0 || d.settings.orb_levels > 32 || !(d.settings.orb_scale_factor > 1)) {
+    Fail(what, "ORB settings out of range");
+  }
+  std::map<std::uint64_t, const KeyFrameData*> kfs;
+  CheckKeyFrames(d, what, kfs);
+  CheckPoints(d, what, kfs);
+  CheckSemantic(d, what, kfs);
+}
+
+std::string Describe(const MapData& d) {
+  std::size_t live = 0, culled = 0, cloud_points = 0;
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
+  for (const KeyFrameData& k : d.keyframes) (k.culled ? culled : live) += 1;
+  for (const MapPointData& p : d.points) {
+    const Eigen::Vector3d x(p.position[0], p.position[1], p.position[2]);
+    lo = lo.cwiseMin(x);
+    hi = hi.cwiseMax(x);
+  }
+  for (const CloudData& c : d.semantic.clouds) cloud_points += c.points_c.size();
+  const CameraConfig& c = d.settings.camera;
+  std::ostringstream o;
+  o.setf(std::ios::fixed);
+  o.precision(1);
+  o << "format version " << kFormatVersion << ", saved " << d.created << "\n";
+  o << "camera " << c.width << "x" << c.height << ", fx " << c.fx << " fy " << c.fy << " cx " << c.cx << " cy "
+    << c.cy << ", depth factor " << c.depth_factor << "\n";
+  o << "ORB: " << d.settings.orb_levels << " levels, scale " << d.settings.orb_scale_factor << "; vocabulary "
+    << (d.settings.vocabulary_checksum.empty() ? "none" : d.settings.vocabulary_checksum.substr(0, 16) + "...") << "\n";
+  o << "keyframes " << live << " (" << culled << " culled ones kept for the semantic map), map points "
+    << d.points.size() << "\n";
+  if (!d.points.empty()) {
+    o.precision(2);
+    const Eigen::Vector3d e = hi - lo;
+    o << "points span " << e.x() << " x " << e.y() << " x " << e.z() << " m\n";
+  }
+  if (d.semantic.present) {
+    o << "semantic map: " << d.semantic.clouds.size() << " keyframe clouds (" << cloud_points << " points), "
+      << d.semantic.objects.size() << " objects\n";
+  } else {
+    o << "semantic map: none (saved without semantic.enabled)\n";
+  }
+  return o.str();
+}
+
+bool SameContent(const MapData& a, const MapData& b) {
+  bool same_camera = true;
+  CameraConfig ca = a.settings.camera, cb = b.settings.camera;
+  std::vector<double> va, vb;
+  ca.Visit([&](const char*, auto& v, const char*) { va.push_back(static_cast<double>(v)); });
+  cb.Visit([&](const char*, auto& v, const char*) { vb.push_back(static_cast<double>(v)); });
+  same_camera = va == vb;
+  return same_camera && a.settings.orb_scale_factor == b.settings.orb_scale_factor &&
+         a.settings.orb_levels == b.settings.orb_levels &&
+         a.settings.vocabulary_checksum == b.settings.vocabulary_checksum && a.next_keyframe_id == b.next_keyframe_id &&
+         a.next_point_id == b.next_point_id && a.next_frame_id == b.next_frame_id && a.keyframes == b.keyframes &&
+         a.points == b.points && a.semantic == b.semantic;
+}
+
+}  // namespace sgslam::mapfile

@@ -1,0 +1,93 @@
+// SlamSystem's map reuse: saving the live map and starting from a saved one.
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+
+#include "sgslam/common/error.h"
+#include "sgslam/common/stats.h"
+#include "sgslam/mapfile/map_capture.h"
+#include "sgslam/mapfile/map_file.h"
+#include "sgslam/system/slam_system.h"
+
+namespace sgslam {
+
+namespace {
+
+mapfile::Settings SettingsOf(const Config& config, const KeyFrameDatabase* places) {
+  return mapfile::RunSettings(config.camera, config.orb.scale_factor, config.orb.levels,
+                              places ? places->vocabulary().checksum() : std::string());
+}
+
+}  // namespace
+
+void SlamSystem::LoadMap(const mapfile::MapData& data, const std::string& what) {
+  if (next_frame_id_ != 0 || !map_.keyframes().empty()) {
+    throw std::logic_error("SlamSystem::LoadMap: only before the first frame");
+  }
+  mapfile::CheckCompatible(data.settings, SettingsOf(config_, places_.get()), what);
+  SemanticState semantic = mapfile::RestoreMap(data, map_, camera_, scale_);
+  std::uint64_t next_frame = data.next_frame_id;
+  {
+    std::unique_lock lock(map_.mutex());
+    for (const auto& [id, kf] : map_.keyframes()) {
+      // Keyframes saved before local mapping had them: described now.
+      if (!kf->bow) kf->bow = places_->Describe(kf->features->descriptors);
+      places_->Add(kf);
+      next_frame = std::max(next_frame, kf->frame_id + 1);
+    }
+  }
+  next_frame_id_ = next_frame;
+  last_keyframe_frame_id_ = next_frame;
+  if (semantic_) semantic_->Restore(std::move(semantic));
+  tracker_.StartInMap();
+  spdlog::info("map {} loaded: {} keyframes, {} map points{}", what, map_.keyframes().size(), map_.map_points().size(),
+               data.semantic.present ? ", " + std::to_string(data.semantic.objects.size()) + " objects" : "");
+}
+
+bool SlamSystem::SaveMap(const std::filesystem::path& path) {
+  if (saving_.exchange(true)) {
+    spdlog::warn("map save to {} refused: the previous save is still being written", path.string());
+    return false;
+  }
+  const std::uint64_t next_frame = next_frame_id_;
+  const bool now = sequential_ || finished_;
+  if (semantic_) {
+    semantic_->RequestState(
+        [this, path, next_frame, now](const SemanticState& state) { SaveCaptured(path, &state, next_frame, now); });
+  } else {
+    SaveCaptured(path, nullptr, next_frame, now);
+  }
+  return true;
+}
+
+void SlamSystem::SaveCaptured(const std::filesystem::path& path, const SemanticState* semantic,
+                              std::uint64_t next_frame_id, bool now) {
+  const Stopwatch copy;
+  auto data = std::make_shared<mapfile::MapData>();
+  {
+    std::shared_lock lock(map_.mutex());
+    *data = mapfile::CaptureMap(map_, SettingsOf(config_, places_.get()), next_frame_id, semantic);
+  }
+  const double copy_ms = copy.ElapsedMs();
+  auto write = [this, path, data, copy_ms] {
+    try {
+      const Stopwatch watch;
+      mapfile::WriteMapFile(path, *data);
+      ++maps_saved_;
+      spdlog::info("map saved to {}: {} keyframes, {} points (copied in {:.0f} ms, written in {:.0f} ms)",
+                   path.string(), data->keyframes.size(), data->points.size(), copy_ms, watch.ElapsedMs());
+    } catch (const std::exception& e) {
+      spdlog::error("map not saved: {}", e.what());
+    }
+    saving_ = false;
+  };
+  if (now) {
+    write();
+    return;
+  }
+  std::lock_guard lock(save_mutex_);
+  if (saver_.joinable()) saver_.join();  // the previous save's thread, already done (saving_ was false)
+  saver_ = std::thread(write);
+}
+
+}  // namespace sgslam
