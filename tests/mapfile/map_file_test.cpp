@@ -1,0 +1,191 @@
+// The map file: a saved map loads into a new system and saves again to the same
+// content, field by field; a damaged or inconsistent file is refused with its
+// reason; a map made with another camera or vocabulary is refused.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "sgslam/common/error.h"
+#include "sgslam/io/frame_stream.h"
+#include "sgslam/mapfile/map_capture.h"
+#include "sgslam/mapfile/map_file.h"
+#include "sgslam/synth/writer.h"
+#include "sgslam/system/run_config.h"
+#include "sgslam/system/slam_system.h"
+#include "support/test_support.h"
+
+namespace sgslam::mapfile {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The objects preset (file detections: objects in the semantic map), mapped once.
+struct Fixture {
+  test::TempDir dir;
+  fs::path seq, map;
+  RunConfig rc;
+  Fixture() {
+    seq = dir / "objects";
+    synth::SynthOptions o;
+    o.preset = "objects";
+    o.frames = 90;
+    synth::GenerateSequence(o, seq);
+    rc = ResolveRunConfig(std::nullopt, seq);
+    map = dir / "objects.map";
+    const TumDataset dataset(seq, rc.config.dataset);
+    SlamSystem system(rc.config, /*sequential=*/true, MakeDetector(rc.config.detector, seq));
+    FrameStream stream(dataset, rc.config.camera, 2);
+    while (auto frame = stream.Next()) system.Process(*frame);
+    system.Finish();
+    EXPECT_TRUE(system.SaveMap(map));
+    EXPECT_EQ(system.maps_saved(), 1u);
+  }
+};
+
+const Fixture& Mapped() {
+  static const Fixture f;
+  return f;
+}
+
+std::string ReadBytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+// The InputError message of Decode(bytes), or "" when it decodes.
+std::string DecodeError(const std::string& bytes) {
+  try {
+    Decode(bytes, "test.map");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+TEST(MapFile, TheSavedMapHoldsEveryLayer) {
+  const MapData d = ReadMapFile(Mapped().map);
+  ASSERT_GT(d.keyframes.size(), 3u);
+  EXPECT_GT(d.points.size(), 300u);
+  EXPECT_TRUE(d.semantic.present);
+  EXPECT_FALSE(d.semantic.clouds.empty());
+  EXPECT_FALSE(d.semantic.objects.empty());
+  const KeyFrameData& k = d.keyframes.back();
+  EXPECT_TRUE(k.has_bow);
+  EXPECT_FALSE(k.connections.empty());
+  EXPECT_EQ(k.descriptors.size(), 32 * k.keys.size());
+  EXPECT_FALSE(d.settings.vocabulary_checksum.empty());
+  EXPECT_NE(Describe(d).find("keyframes"), std::string::npos);
+}
+
+TEST(MapFile, LoadThenSaveGivesTheSameContent) {
+  const Fixture& f = Mapped();
+  const MapData first = ReadMapFile(f.map);
+  SlamSystem system(f.rc.config, /*sequential=*/true, MakeDetector(f.rc.config.detector, f.seq));
+  system.LoadMap(first, f.map.string());
+  const fs::path again = f.dir / "again.map";
+  ASSERT_TRUE(system.SaveMap(again));
+  MapData second = ReadMapFile(again);
+  // Field by field, for a failure that says where.
+  EXPECT_TRUE(first.settings.vocabulary_checksum == second.settings.vocabulary_checksum);
+  EXPECT_EQ(first.next_keyframe_id, second.next_keyframe_id);
+  EXPECT_EQ(first.next_point_id, second.next_point_id);
+  EXPECT_EQ(first.next_frame_id, second.next_frame_id);
+  ASSERT_EQ(first.keyframes.size(), second.keyframes.size());
+  for (std::size_t i = 0; i < first.keyframes.size(); ++i) {
+    EXPECT_TRUE(first.keyframes[i] == second.keyframes[i]) << "keyframe " << first.keyframes[i].id;
+  }
+  ASSERT_EQ(first.points.size(), second.points.size());
+  for (std::size_t i = 0; i < first.points.size(); ++i) {
+    EXPECT_TRUE(first.points[i] == second.points[i]) << "map point " << first.points[i].id;
+  }
+  EXPECT_TRUE(first.semantic.clouds == second.semantic.clouds);
+  EXPECT_TRUE(first.semantic.objects == second.semantic.objects);
+  EXPECT_TRUE(SameContent(first, second));
+  // And byte for byte, but for the date.
+  second.created = first.created;
+  EXPECT_EQ(Encode(first), Encode(second));
+}
+
+TEST(MapFile, DamagedFilesAreRefusedWithTheirReason) {
+  const std::string good = ReadBytes(Mapped().map);
+  ASSERT_EQ(DecodeError(good), "");
+  for (std::size_t size : {std::size_t{0}, std::size_t{7}, std::size_t{30}, std::size_t{52}, good.size() / 3,
+                           good.size() - 1}) {
+    const std::string why = DecodeError(good.substr(0, size));
+    EXPECT_TRUE(why.find("too short") != std::string::npos || why.find("truncated") != std::string::npos)
+        << size << ": " << why;
+    EXPECT_NE(why.find("test.map"), std::string::npos) << why;
+  }
+  for (std::size_t at : {std::size_t{60}, good.size() / 2, good.size() - 1}) {
+    std::string flipped = good;
+    flipped[at] = static_cast<char>(flipped[at] ^ 0x10);
+    EXPECT_NE(DecodeError(flipped).find("checksum mismatch"), std::string::npos) << at;
+  }
+  std::string magic = good;
+  magic[0] = 'X';
+  EXPECT_NE(DecodeError(magic).find("wrong magic"), std::string::npos);
+  std::string version = good;
+  const std::uint32_t v2 = kFormatVersion + 1;
+  std::memcpy(version.data() + 8, &v2, sizeof v2);
+  EXPECT_NE(DecodeError(version).find("format version 2"), std::string::npos) << DecodeError(version);
+  std::string padded = good + "x";
+  EXPECT_NE(DecodeError(padded).find("truncated or padded"), std::string::npos);
+}
+
+TEST(MapFile, InconsistentContentIsRefusedEvenWithAGoodChecksum) {
+  const MapData good = ReadMapFile(Mapped().map);
+  MapData d = good;
+  d.points.front().observations.front().second = 1'000'000;  // no such keypoint
+  EXPECT_NE(DecodeError(Encode(d)).find("does not match its keyframe"), std::string::npos);
+  d = good;
+  d.keyframes[1].parent = d.keyframes[2].id;
+  d.keyframes[2].parent = d.keyframes[1].id;
+  EXPECT_NE(DecodeError(Encode(d)).find("its own ancestor"), std::string::npos);
+  d = good;
+  d.keyframes.back().depth.pop_back();
+  EXPECT_NE(DecodeError(Encode(d)).find("different lengths"), std::string::npos);
+  d = good;
+  d.points.back().position[1] = std::nan("");
+  EXPECT_NE(DecodeError(Encode(d)).find("not finite"), std::string::npos);
+  d = good;
+  d.keyframes.back().keys.front().octave = 99;
+  EXPECT_NE(DecodeError(Encode(d)).find("out of range"), std::string::npos);
+  d = good;
+  d.semantic.clouds.front().keyframe = 123456;
+  EXPECT_NE(DecodeError(Encode(d)).find("cloud"), std::string::npos);
+}
+
+TEST(MapFile, AMapOfAnotherCameraOrVocabularyIsRefused) {
+  const MapData saved = ReadMapFile(Mapped().map);
+  Settings run = saved.settings;
+  EXPECT_NO_THROW(CheckCompatible(saved.settings, run, "m.map"));
+  run.camera.fps = 15;  // how the camera is run, not what the map is
+  EXPECT_NO_THROW(CheckCompatible(saved.settings, run, "m.map"));
+  const auto error = [&](const Settings& r) {
+    try {
+      CheckCompatible(saved.settings, r, "m.map");
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  run = saved.settings;
+  run.camera.fx += 1;
+  EXPECT_NE(error(run).find("camera.fx"), std::string::npos) << error(run);
+  run = saved.settings;
+  run.camera.depth_factor = 1000;
+  EXPECT_NE(error(run).find("camera.depth_factor"), std::string::npos);
+  run = saved.settings;
+  run.orb_levels = 4;
+  EXPECT_NE(error(run).find("orb.levels"), std::string::npos);
+  run = saved.settings;
+  run.vocabulary_checksum = std::string(64, '0');
+  EXPECT_NE(error(run).find("another vocabulary"), std::string::npos);
+  run.vocabulary_checksum.clear();
+  EXPECT_NE(error(run).find("loop.enabled"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace sgslam::mapfile
