@@ -18,7 +18,7 @@ namespace sgslam::app {
 namespace {
 
 struct EvalArgs {
-  std::string gt, est, plot, errors;
+  std::string gt, est, plot, errors, align_with;
   double max_diff_s = 0.02;
   double delta_s = 1.0;
   bool json = false;
@@ -30,6 +30,7 @@ int RunEval(const EvalArgs& a) {
   eval::EvalOptions options;
   options.max_difference = FromSeconds(a.max_diff_s);
   options.rpe_delta = FromSeconds(a.delta_s);
+  options.align_with = a.align_with;
   const eval::EvalReport report = eval::EvaluateFiles(a.gt, a.est, options);
   // Plot before printing, so a failed plot leaves no half-reported result on stdout.
   if (!a.plot.empty()) {
@@ -68,6 +69,9 @@ Action AddEvalCommand(CLI::App& root) {
       ->capture_default_str();
   sub->add_option("--plot", args->plot, "Write a top-view ATE plot to this PNG file");
   sub->add_option("--errors", args->errors, "Write the per-pose ATE error (timestamp, metres) to this text file");
+  sub->add_option("--align-with", args->align_with,
+                  "Fit the ATE alignment on this trajectory instead (the run that made the map --est was localised in)")
+      ->check(CLI::ExistingFile);
   sub->add_flag("--json", args->json, "Print one JSON object on stdout instead of a table");
   return [args]() -> int { return RunEval(*args); };
 }

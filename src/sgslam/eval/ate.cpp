@@ -26,7 +26,8 @@ std::string Seconds(Timestamp t) {
 }  // namespace
 
 AteResult ComputeAte(const Trajectory& gt, const Trajectory& est, Timestamp max_difference,
-                     const std::string& gt_name, const std::string& est_name) {
+                     const std::string& gt_name, const std::string& est_name,
+                     const std::optional<SE3>& T_gt_est) {
   if (gt.empty()) throw InputError("ground truth " + gt_name + " contains no poses");
   if (est.empty()) throw InputError("estimate " + est_name + " contains no poses");
   AteResult result;
@@ -35,7 +36,7 @@ AteResult ComputeAte(const Trajectory& gt, const Trajectory& est, Timestamp max_
     throw InputError("no pose of " + est_name + " is within " + Seconds(max_difference) + " s of one in " +
                      gt_name + "; check that both use the same clock in seconds, or raise --max-diff");
   }
-  if (result.pairs.size() < 3) {
+  if (result.pairs.size() < 3 && !T_gt_est) {
     throw InputError("only " + std::to_string(result.pairs.size()) + " poses of " + est_name + " are within " +
                      Seconds(max_difference) + " s of one in " + gt_name +
                      "; a rigid alignment needs at least 3");
@@ -45,7 +46,7 @@ AteResult ComputeAte(const Trajectory& gt, const Trajectory& est, Timestamp max_
     gt_xyz.push_back(gt[i].T_w_c.translation());
     est_xyz.push_back(est[j].T_w_c.translation());
   }
-  result.T_gt_est = geometry::AlignRigid(est_xyz, gt_xyz);
+  result.T_gt_est = T_gt_est ? *T_gt_est : geometry::AlignRigid(est_xyz, gt_xyz);
   for (std::size_t k = 0; k < est_xyz.size(); ++k) {
     result.errors.push_back((result.T_gt_est * est_xyz[k] - gt_xyz[k]).norm());
   }

@@ -32,7 +32,13 @@ EvalReport EvaluateFiles(const std::filesystem::path& gt, const std::filesystem:
   r.gt = UniqueStamps(ReadTumTrajectory(gt));
   r.est = UniqueStamps(ReadTumTrajectory(est));
   spdlog::debug("eval: {} poses in {}, {} in {}", r.gt.size(), r.gt_name, r.est.size(), r.est_name);
-  r.ate = ComputeAte(r.gt, r.est, options.max_difference, r.gt_name, r.est_name);
+  std::optional<SE3> T_gt_est;
+  if (!options.align_with.empty()) {
+    T_gt_est = ComputeAte(r.gt, UniqueStamps(ReadTumTrajectory(options.align_with)), options.max_difference, r.gt_name,
+                          options.align_with.string())
+                   .T_gt_est;
+  }
+  r.ate = ComputeAte(r.gt, r.est, options.max_difference, r.gt_name, r.est_name, T_gt_est);
   try {
     r.rpe = ComputeRpe(r.gt, r.est, options.rpe_delta, r.gt_name, r.est_name);
   } catch (const InputError& e) {
@@ -54,6 +60,7 @@ nlohmann::json ToJson(const EvalReport& r) {
   j["est"] = r.est_name;
   j["ate"] = ToJson(r.ate.stats);
   j["ate"]["max_diff_s"] = ToSeconds(r.options.max_difference);
+  if (!r.options.align_with.empty()) j["ate"]["aligned_with"] = r.options.align_with.string();
   const Eigen::Quaterniond& q = r.ate.T_gt_est.quaternion();
   const Eigen::Vector3d& t = r.ate.T_gt_est.translation();
   j["ate"]["T_gt_est"] = {{"t", {t.x(), t.y(), t.z()}}, {"q_xyzw", {q.x(), q.y(), q.z(), q.w()}}};
@@ -80,6 +87,7 @@ std::string FormatTable(const EvalReport& r) {
   out += "ground truth: " + r.gt_name + "\nestimate:     " + r.est_name + "\n";
   const ErrorStats& a = r.ate.stats;
   line("ATE [m] over %zu pairs (max difference %.3f s)\n", a.count, ToSeconds(r.options.max_difference));
+  if (!r.options.align_with.empty()) out += "  aligned as " + r.options.align_with.string() + " (not refitted)\n";
   line("  rmse %.6f  mean %.6f  median %.6f  std %.6f  min %.6f  max %.6f\n", a.rmse, a.mean, a.median, a.std,
        a.min, a.max);
   if (!r.rpe) {

@@ -19,6 +19,9 @@ namespace sgslam::eval {
 struct EvalOptions {
   Timestamp max_difference = 20'000'000;  // ns (0.02 s), association window for ATE
   Timestamp rpe_delta = kNsPerSecond;     // ns (1 s), RPE pose-pair spacing
+  // The ATE alignment is fitted on this trajectory (in the same frame as the
+  // estimate: the run that made a map the estimate was localised in), not on the estimate.
+  std::filesystem::path align_with;
 };
 
 struct EvalReport {

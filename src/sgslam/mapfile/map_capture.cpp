@@ -4,6 +4,7 @@
 #include <cmath>
 #include <ctime>
 #include <map>
+#include <set>
 
 #include "sgslam/common/error.h"
 
@@ -126,15 +127,17 @@ ObjectData ToData(const ObjectDatabase::Object& o) {
   return d;
 }
 
-// The semantic layer, and every keyframe it is anchored to that the map no longer
-// has (culled), with the culled parents those are placed on.
-void CaptureSemantic(const SemanticState& s, std::map<std::uint64_t, const KeyFrame*>& keyframes, MapData& d) {
+using KeyFrameSet = std::map<std::uint64_t, const KeyFrame*>;
+
+// Adds kf, when the map no longer has it (culled), with the culled parents it is placed on.
+void Anchor(const KeyFrame* kf, KeyFrameSet& keyframes) {
+  for (const KeyFrame* k = kf; k && !keyframes.count(k->id); k = k->parent_when_culled().get()) keyframes[k->id] = k;
+}
+
+// The semantic layer, and every keyframe it is anchored to (Anchor).
+void CaptureSemantic(const SemanticState& s, KeyFrameSet& keyframes, MapData& d) {
   d.semantic.present = true;
-  const auto anchor = [&](const std::shared_ptr<KeyFrame>& kf) {
-    for (const KeyFrame* k = kf.get(); k && !keyframes.count(k->id); k = k->parent_when_culled().get()) {
-      keyframes[k->id] = k;
-    }
-  };
+  const auto anchor = [&](const std::shared_ptr<KeyFrame>& kf) { Anchor(kf.get(), keyframes); };
   for (const SemanticState::Cloud& c : s.clouds) {
     anchor(c.keyframe);
     d.semantic.clouds.push_back({c.keyframe->id, ToData(c.points_c), ToData(c.rays_c), ToData(c.depth_pooled),
@@ -156,13 +159,21 @@ MapData CaptureMap(const Map& map, const Settings& settings, std::uint64_t next_
   MapData d;
   d.created = UtcNow();
   d.settings = settings;
-  std::map<std::uint64_t, const KeyFrame*> keyframes;
+  KeyFrameSet keyframes;
   for (const auto& [id, kf] : map.keyframes()) keyframes[id] = kf.get();
   for (const auto& kf : PendingKeyFrames(map)) keyframes[kf->id] = kf.get();
+  std::set<std::uint64_t> live;
+  for (const auto& [id, kf] : keyframes) live.insert(id);
+  for (std::uint64_t id : live) {
+    if (const auto parent = keyframes.at(id)->parent()) Anchor(parent.get(), keyframes);
+  }
   if (semantic) CaptureSemantic(*semantic, keyframes, d);
   std::uint64_t next_kf = 0;
   for (const auto& [id, kf] : keyframes) {
-    d.keyframes.push_back(CaptureKeyFrame(*kf));
+    KeyFrameData& k = d.keyframes.emplace_back(CaptureKeyFrame(*kf));
+    // Edges to culled keyframes that linger on one side of a covisibility link go.
+    std::erase_if(k.connections, [&](const auto& c) { return !live.count(c.first); });
+    std::erase_if(k.loop_edges, [&](std::uint64_t other) { return !live.count(other); });
     next_kf = id + 1;
   }
   std::uint64_t next_point = 0;

@@ -222,11 +222,20 @@ void CheckKeyFrames(const MapData& d, const std::string& what, std::map<std::uin
   for (const MapPointData& p : d.points) point_ids.insert(p.id);
   for (const KeyFrameData& k : d.keyframes) {
     const auto live = [&](std::uint64_t id) { return kfs.count(id) && !kfs.at(id)->culled; };
-    bool ok = k.parent == kNoId || (kfs.count(k.parent) && k.parent != k.id);
-    for (const auto& [other, weight] : k.connections) ok = ok && live(other) && other != k.id;
-    for (std::uint64_t other : k.loop_edges) ok = ok && live(other);
-    for (std::uint64_t p : k.point_ids) ok = ok && (p == kNoId || point_ids.count(p));
-    if (!ok) Fail(what, "keyframe " + std::to_string(k.id) + " refers to a keyframe or point the map does not have");
+    const auto fail = [&](const std::string& which, std::uint64_t id) {
+      Fail(what, "keyframe " + std::to_string(k.id) + " refers to " + which + " " + std::to_string(id) +
+                     ", which the map does not have");
+    };
+    if (k.parent != kNoId && (!kfs.count(k.parent) || k.parent == k.id)) fail("parent keyframe", k.parent);
+    for (const auto& [other, weight] : k.connections) {
+      if (!live(other) || other == k.id) fail("covisible keyframe", other);
+    }
+    for (std::uint64_t other : k.loop_edges) {
+      if (!live(other)) fail("loop keyframe", other);
+    }
+    for (std::uint64_t p : k.point_ids) {
+      if (p != kNoId && !point_ids.count(p)) fail("map point", p);
+    }
   }
 }
 
