@@ -217,7 +217,11 @@ RunSummary RunSequence(const RunOptions& o) {
   SlamSystem system(config, o.sequential, std::move(detector));
   spdlog::info("mode {}, detector: {}", config.dynamic.mode, system.DescribeDetector());
   if (!o.save_map.empty()) CheckWritable(o.save_map);
-  if (!o.load_map.empty()) system.LoadMap(mapfile::ReadMapFile(o.load_map), o.load_map);
+  if (!o.load_map.empty()) {
+    const Stopwatch load;
+    system.LoadMap(mapfile::ReadMapFile(o.load_map), o.load_map);
+    spdlog::info("map loaded in {:.0f} ms (read, checked, restored, OctoMap rebuilt)", load.ElapsedMs());
+  }
   if (config.camera.readout > 0) {
     spdlog::info("rolling shutter: rows read out over {:.0f} ms (camera.readout; 0 for a global shutter)",
                  1000 * config.camera.readout);
