@@ -8,6 +8,7 @@
 #include "sgslam/mapfile/map_capture.h"
 #include "sgslam/mapfile/map_file.h"
 #include "sgslam/system/slam_system.h"
+#include "sgslam/tracking/trusted_pose.h"
 
 namespace sgslam {
 
@@ -36,6 +37,11 @@ void SlamSystem::LoadMap(const mapfile::MapData& data, const std::string& what) 
       next_frame = std::max(next_frame, kf->frame_id + 1);
     }
   }
+  // The loaded points have stood the test of the run that made them (and trust's
+  // clock, the points' creation times, may be later than this run's frames).
+  std::vector<std::shared_ptr<MapPoint>> points;
+  for (const auto& [id, p] : map_.map_points()) points.push_back(p);
+  TrustAll(points);
   next_frame_id_ = next_frame;
   last_keyframe_frame_id_ = next_frame;
   if (semantic_) semantic_->Restore(std::move(semantic));
