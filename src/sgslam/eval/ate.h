@@ -31,4 +31,10 @@ struct AteResult {
 AteResult ComputeAte(const Trajectory& gt, const Trajectory& est, Timestamp max_difference,
                      const std::string& gt_name = "ground truth", const std::string& est_name = "estimate");
 
+// The same at an alignment fitted elsewhere. Frames localised in a map are
+// measured at the alignment fitted on the frames that made the map: one of their
+// own would absorb an offset between them and the map. Needs one pair.
+AteResult ComputeAteAt(const Trajectory& gt, const Trajectory& est, const SE3& T_gt_est, Timestamp max_difference,
+                       const std::string& gt_name = "ground truth", const std::string& est_name = "estimate");
+
 }  // namespace sgslam::eval
