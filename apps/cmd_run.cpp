@@ -24,8 +24,11 @@ Action AddRunCommand(CLI::App& root) {
   cmd->add_flag("--sequential", o->sequential, "Step every module in one thread (deterministic output)");
   cmd->add_flag("--realtime", o->realtime,
                 "Hand frames over at the pace of their timestamps, like a live camera (default: as fast as they load)");
-  cmd->add_option("--load-map", o->load_map, "Start from the map saved in FILE (--save-map) and extend it")
+  CLI::Option* load = cmd->add_option("--load-map", o->load_map, "Start from the map saved in FILE (--save-map) and extend it")
       ->check(CLI::ExistingFile);
+  cmd->add_flag("--localize", o->localize,
+                "With --load-map: track in the map without adding keyframes or points (dynamic rejection stays on)")
+      ->needs(load);
   cmd->add_option("--save-map", o->save_map, "Save the whole map to FILE at the end (and on SIGUSR1 during the run)");
   cmd->add_option("--viewer", o->viewer_port, "Serve the live viewer on PORT")->expected(0, 1)->default_str("8080");
   return [o] {

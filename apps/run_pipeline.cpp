@@ -220,6 +220,7 @@ RunSummary RunSequence(const RunOptions& o) {
   if (!o.load_map.empty()) {
     const Stopwatch load;
     system.LoadMap(mapfile::ReadMapFile(o.load_map), o.load_map);
+    system.SetLocalizationOnly(o.localize);
     spdlog::info("map loaded in {:.0f} ms (read, checked, restored, OctoMap rebuilt)", load.ElapsedMs());
   }
   if (config.camera.readout > 0) {
@@ -253,7 +254,8 @@ RunSummary RunSequence(const RunOptions& o) {
   if (!semantic.is_null()) stats["semantic"] = semantic;
   if (!loop.failure.empty()) stats["error"] = loop.failure;
   if (!o.load_map.empty() || !o.save_map.empty()) {
-    stats["map_file"] = {{"loaded", o.load_map}, {"saved", o.save_map}, {"saves", system.maps_saved()}};
+    stats["map_file"] = {{"loaded", o.load_map}, {"localize", o.localize}, {"saved", o.save_map},
+                         {"saves", system.maps_saved()}};
   }
   if (s.frames > 0 && s.tracked == 0) {
     spdlog::warn("no frame was tracked: the map never started, so trajectory.txt and the maps are empty");

@@ -24,6 +24,7 @@ struct RunOptions {
   // Map reuse: the map to start from (relocalised in at the first frame), and the
   // file to save the map to at the end and on SIGUSR1.
   std::string load_map, save_map;
+  bool localize = false;  // with load_map: track in the map without adding to it
   bool print_objects = true;  // the end-of-run object table on stdout
   // Programmatic overrides after the file and the options above (the demo's
   // comparison runs); `tweak_name` is added to the configuration's source.

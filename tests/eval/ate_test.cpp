@@ -132,5 +132,22 @@ TEST(EvalAte, RejectsEmptyAndTooFewPairs) {
   EXPECT_EQ(ComputeAte(gt, three, 20 * kMs).stats.count, 3u);
 }
 
+// A part measured at the alignment fitted on another keeps the offset between them,
+// which a fit of its own would remove; one pair is enough.
+TEST(EvalAte, AtAGivenAlignmentTheOffsetStays) {
+  const Trajectory gt = SmoothPath(300);
+  const Trajectory first(gt.begin(), gt.begin() + 150);
+  const Trajectory second = Offset(Trajectory(gt.begin() + 150, gt.end()),
+                                   [](std::size_t) { return Eigen::Vector3d(0.0, 0.03, 0.04); });
+  const SE3 T_gt_est = ComputeAte(gt, first, 20 * kMs).T_gt_est;
+  const AteResult at = ComputeAteAt(gt, second, T_gt_est, 20 * kMs);
+  EXPECT_EQ(at.stats.count, second.size());
+  EXPECT_NEAR(at.stats.rmse, 0.05, 1e-9);
+  EXPECT_LT(ComputeAte(gt, second, 20 * kMs).stats.rmse, 1e-9);
+  EXPECT_NEAR(ComputeAteAt(gt, Trajectory(second.begin(), second.begin() + 1), T_gt_est, 20 * kMs).stats.rmse, 0.05,
+              1e-9);
+  EXPECT_THROW(ComputeAteAt(gt, {}, T_gt_est, 20 * kMs), InputError);
+}
+
 }  // namespace
 }  // namespace sgslam::eval

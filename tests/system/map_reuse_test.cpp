@@ -76,7 +76,7 @@ TEST(MapReuse, TheNextRunStartsInTheSavedMap) {
   // Poses in the map's frame: aligned as the first run was, not fitted again.
   const Trajectory gt = ReadTumTrajectory(seq / "groundtruth.txt");
   const SE3 T_gt_map = eval::ComputeAte(gt, first.trajectory, FromSeconds(0.02)).T_gt_est;
-  const double ate = eval::ComputeAte(gt, again.trajectory, FromSeconds(0.02), "gt", "est", T_gt_map).stats.rmse;
+  const double ate = eval::ComputeAteAt(gt, again.trajectory, T_gt_map, FromSeconds(0.02)).stats.rmse;
   EXPECT_LT(ate, 0.02);
   // The same places: the map hardly grows.
   EXPECT_LE(again.keyframes, first.keyframes + 3);

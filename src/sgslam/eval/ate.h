@@ -5,7 +5,6 @@
 #pragma once
 
 #include <cstddef>
-#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -29,10 +28,13 @@ struct AteResult {
 // gt and est sorted by time with unique stamps (UniqueStamps in evaluate.h). The names are only used in
 // error messages (normally the file paths). Throws InputError when a trajectory is
 // empty, nothing associates within max_difference, or fewer than 3 pairs do.
-// T_gt_est: a given alignment (a map's frame, fitted on the run that made the map:
-// `sgslam eval --align-with`), used instead of fitting one to these poses.
 AteResult ComputeAte(const Trajectory& gt, const Trajectory& est, Timestamp max_difference,
-                     const std::string& gt_name = "ground truth", const std::string& est_name = "estimate",
-                     const std::optional<SE3>& T_gt_est = std::nullopt);
+                     const std::string& gt_name = "ground truth", const std::string& est_name = "estimate");
+
+// The same at an alignment fitted elsewhere. Frames localised in a map are
+// measured at the alignment fitted on the frames that made the map: one of their
+// own would absorb an offset between them and the map. Needs one pair.
+AteResult ComputeAteAt(const Trajectory& gt, const Trajectory& est, const SE3& T_gt_est, Timestamp max_difference,
+                       const std::string& gt_name = "ground truth", const std::string& est_name = "estimate");
 
 }  // namespace sgslam::eval

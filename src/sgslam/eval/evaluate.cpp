@@ -32,13 +32,14 @@ EvalReport EvaluateFiles(const std::filesystem::path& gt, const std::filesystem:
   r.gt = UniqueStamps(ReadTumTrajectory(gt));
   r.est = UniqueStamps(ReadTumTrajectory(est));
   spdlog::debug("eval: {} poses in {}, {} in {}", r.gt.size(), r.gt_name, r.est.size(), r.est_name);
-  std::optional<SE3> T_gt_est;
-  if (!options.align_with.empty()) {
-    T_gt_est = ComputeAte(r.gt, UniqueStamps(ReadTumTrajectory(options.align_with)), options.max_difference, r.gt_name,
-                          options.align_with.string())
-                   .T_gt_est;
+  if (options.align_with.empty()) {
+    r.ate = ComputeAte(r.gt, r.est, options.max_difference, r.gt_name, r.est_name);
+  } else {
+    const SE3 T_gt_est = ComputeAte(r.gt, UniqueStamps(ReadTumTrajectory(options.align_with)), options.max_difference,
+                                    r.gt_name, options.align_with.string())
+                             .T_gt_est;
+    r.ate = ComputeAteAt(r.gt, r.est, T_gt_est, options.max_difference, r.gt_name, r.est_name);
   }
-  r.ate = ComputeAte(r.gt, r.est, options.max_difference, r.gt_name, r.est_name, T_gt_est);
   try {
     r.rpe = ComputeRpe(r.gt, r.est, options.rpe_delta, r.gt_name, r.est_name);
   } catch (const InputError& e) {

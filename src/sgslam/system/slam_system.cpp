@@ -191,11 +191,13 @@ void SlamSystem::Stop(bool final_ba) {
   loop_queue_.Shutdown();  // after local mapping: nothing feeds it any more
   if (loop_thread_.joinable()) loop_thread_.join();
   // The final BA supersedes a running global BA; without one, it is waited for.
-  StopGlobalBa(/*abort=*/!final_ba || config_.mapping.final_ba_iterations > 0);
+  // None in localisation mode: the frames stay in the map they were localised in.
+  const bool run_final_ba = final_ba && config_.mapping.final_ba_iterations > 0 && !localization_only();
+  StopGlobalBa(/*abort=*/!final_ba || run_final_ba);
   // With every keyframe mapped, one bundle adjustment of the whole map (what
   // ORB-SLAM2 runs after a loop closure). The trajectory is exported relative to
   // the keyframes, so it follows; so do the semantic cloud and objects.
-  if (final_ba && config_.mapping.final_ba_iterations > 0) final_ba_ = mapper_.GlobalBundleAdjustment();
+  if (run_final_ba) final_ba_ = mapper_.GlobalBundleAdjustment();
   if (semantic_) semantic_->Finish();  // after local mapping: nothing feeds it any more
   std::lock_guard lock(save_mutex_);  // a save in flight ends (the semantic thread has served every request)
   if (saver_.joinable()) saver_.join();

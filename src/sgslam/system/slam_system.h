@@ -69,6 +69,14 @@ class SlamSystem {
   SlamSystem& operator=(const SlamSystem&) = delete;
 
   FrameReport Process(const RgbdImages& images);
+  // Localisation only (Tracker::SetLocalizationOnly): frames are tracked in the map
+  // without adding to it, so local mapping, loop closing and the semantic map get
+  // no new keyframe; those made before the switch are still mapped. Call between
+  // Process() calls, or before the first one for a map made elsewhere. The final
+  // bundle adjustment is skipped in this mode, so the map stays the one the frames
+  // were localised in. From the thread that calls Process().
+  void SetLocalizationOnly(bool on) { tracker_.SetLocalizationOnly(on); }
+  bool localization_only() const { return tracker_.localization_only(); }
   // Lets local mapping finish the queued keyframes, stops its thread and runs the
   // final bundle adjustment (mapping.final_ba_iterations). The destructor stops
   // without that adjustment.

@@ -93,7 +93,8 @@ int Tracker::AddDepthPoints(Frame& frame, const std::shared_ptr<KeyFrame>& kf, b
 }
 
 int Tracker::ConfirmStaticInFirstKeyFrame(const std::vector<std::uint8_t>& now_static) {
-  if (state_ != TrackState::kOk || !reference_kf_ || !last_frame_.features) return 0;
+  // A loaded map's keyframe may carry the frame id of this run's first frame.
+  if (localization_only_ || state_ != TrackState::kOk || !reference_kf_ || !last_frame_.features) return 0;
   const std::shared_ptr<KeyFrame> kf = reference_kf_;
   std::unique_lock lock(map_.mutex());  // the keyframe list, then the keyframe's features and points
   if (map_.keyframes().size() != 1 || kf->frame_id != last_frame_.id) return 0;

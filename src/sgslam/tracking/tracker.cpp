@@ -67,7 +67,7 @@ Tracker::Tracker(const TrackingConfig& config, const CameraConfig& camera, Map& 
 
 TrackResult Tracker::Track(Frame& frame, bool mapping_idle, bool mapping_full) {
   TrackResult result;
-  if (state_ == TrackState::kNotInitialized) {
+  if (state_ == TrackState::kNotInitialized && !localization_only_) {
     if (Initialize(frame, result)) {
       state_ = TrackState::kOk;
       last_frame_ = frame;
@@ -112,7 +112,7 @@ TrackResult Tracker::Track(Frame& frame, bool mapping_idle, bool mapping_full) {
   bool need_keyframe = false;
   {
     std::shared_lock lock(map_.mutex());
-    need_keyframe = NeedNewKeyFrame(frame, result.inliers, mapping_idle, mapping_full);
+    need_keyframe = !localization_only_ && NeedNewKeyFrame(frame, result.inliers, mapping_idle, mapping_full);
   }
   if (need_keyframe) {
     result.new_keyframe = CreateKeyFrame(frame, result.T_c_r, corrections);

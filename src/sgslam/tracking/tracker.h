@@ -58,6 +58,14 @@ class Tracker {
   // into account.
   TrackResult Track(Frame& frame, bool mapping_idle, bool mapping_full);
 
+  // Localisation only (ORB-SLAM2's localisation mode): frames are tracked against
+  // the map and relocalised in it when lost, but no keyframe or map point is made:
+  // poses and points are only read (the points' match counts and trust still
+  // count). Before the first frame, the map is one made elsewhere (loaded): the
+  // first frames are relocalised in it instead of starting a map. Between Track calls.
+  void SetLocalizationOnly(bool on) { localization_only_ = on; }
+  bool localization_only() const { return localization_only_; }
+
   // With a rolling shutter and tracking.keyframe_velocity_central, a new keyframe
   // waits for the next frame before it goes to local mapping: Track then corrects
   // its keypoints with the angular velocity of the poses on either side (central
@@ -125,6 +133,7 @@ class Tracker {
   const std::shared_ptr<const KeyFrameDatabase> places_;
   LocalMap local_map_;
   TrackState state_ = TrackState::kNotInitialized;
+  bool localization_only_ = false;
   Frame last_frame_;
   bool has_velocity_ = false;
   SE3 velocity_;  // T_cur_last of the last two tracked frames
