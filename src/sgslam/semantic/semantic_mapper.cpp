@@ -215,21 +215,32 @@ SemanticState SemanticMapper::State() const {
 }
 
 void SemanticMapper::Restore(SemanticState state) {
-  std::vector<SE3> T_w_c;
-  {
-    std::shared_lock lock(map_.mutex());
-    for (const SemanticState::Cloud& c : state.clouds) T_w_c.push_back(c.keyframe->PlacedT_c_w().Inverse());
-  }
   clouds_.clear();
   ray_points_.clear();
-  octomap_.Clear();
-  for (std::size_t i = 0; i < state.clouds.size(); ++i) {
-    SemanticState::Cloud& c = state.clouds[i];
-    octomap_.Insert(c.points_c, c.rays_c, T_w_c[i]);
+  for (SemanticState::Cloud& c : state.clouds) {
     clouds_.push_back({c.keyframe, std::move(c.points_c), c.depth_pooled, c.moving_pooled});
     ray_points_.push_back(std::move(c.rays_c));
   }
   objects_.Restore(std::move(state.objects), state.next_object_id);
+  if (sequential_) {
+    RebuildOctoMap();
+    return;
+  }
+  {  // the worker builds it before its first keyframe: loading a map does not wait for it
+    std::lock_guard lock(mutex_);
+    rebuild_pending_ = true;
+  }
+  wake_.notify_one();
+}
+
+void SemanticMapper::RebuildOctoMap() {
+  std::vector<SE3> T_w_c;
+  {
+    std::shared_lock lock(map_.mutex());
+    for (const KeyFrameCloud& c : clouds_) T_w_c.push_back(c.keyframe->PlacedT_c_w().Inverse());
+  }
+  octomap_.Clear();
+  for (std::size_t i = 0; i < clouds_.size(); ++i) octomap_.Insert(clouds_[i].points_c, ray_points_[i], T_w_c[i]);
 }
 
 std::size_t SemanticMapper::octomaps_written() const {
@@ -260,9 +271,15 @@ void SemanticMapper::Loop() {
       // The front keyframe waits for the frames after it (box_window), so that it
       // is masked with the same boxes as in sequential mode.
       wake_.wait(lock, [&] {
-        return stop_ || octomap_request_ || state_request_ ||
+        return stop_ || octomap_request_ || state_request_ || rebuild_pending_ ||
                (!queue_.empty() && WindowComplete(queue_.front().keyframe->frame_id));
       });
+      if (rebuild_pending_) {
+        rebuild_pending_ = false;
+        lock.unlock();
+        RebuildOctoMap();
+        continue;
+      }
       if (state_request_) {
         const auto fn = std::move(state_request_);
         state_request_ = nullptr;

@@ -110,7 +110,7 @@ class SemanticMapper {
   void RequestState(std::function<void(const SemanticState&)> fn);
   // Starts from a saved state (before the first Submit; the keyframes are in the
   // map): the clouds, the objects, and the OctoMap built again with the keyframes'
-  // poses now.
+  // poses now (by the worker, before its first keyframe; at once when sequential).
   void Restore(SemanticState state);
 
   // For observers (system/snapshot.h): once enabled (before the first Submit), each
@@ -210,6 +210,8 @@ class SemanticMapper {
   std::optional<std::uint64_t> last_frame_id_;
   std::optional<std::filesystem::path> octomap_request_;  // guarded by mutex_
   std::function<void(const SemanticState&)> state_request_;  // guarded by mutex_
+  bool rebuild_pending_ = false;                              // guarded by mutex_ (Restore)
+  void RebuildOctoMap();  // from clouds_ with the keyframes' poses now; the worker (or the only thread)
   SemanticState State() const;  // the worker (or the only thread)
   std::size_t octomaps_written_ = 0;                      // guarded by mutex_
   void WriteLiveOctoMap(const std::filesystem::path& path);  // the worker (or the only thread)
