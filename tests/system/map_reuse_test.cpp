@@ -88,7 +88,9 @@ TEST(MapReuse, MapsSavedWhileRunningAreWhole) {
   const test::TempDir dir;
   const fs::path seq = Walkers(dir);
   const Outcome run = RunSequence(seq, /*sequential=*/false, {}, dir / "live.map", /*save_every=*/25);
-  EXPECT_GE(run.saves_requested, 3u);
+  // A request while the last save is being written is refused: how many are taken
+  // depends on the machine's speed.
+  EXPECT_GE(run.saves_requested, 1u);
   EXPECT_EQ(run.saves, run.saves_requested + 1);
   std::size_t last_keyframes = 0;
   for (int n = 25; n <= 150; n += 25) {
