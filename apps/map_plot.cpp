@@ -7,6 +7,7 @@
 
 #include "sgslam/common/error.h"
 #include "sgslam/common/stats.h"
+#include "sgslam/io/text_file.h"
 
 namespace sgslam::app {
 
@@ -72,11 +73,9 @@ void WriteTopView(const std::filesystem::path& path, const std::vector<Eigen::Ve
   const int bar = static_cast<int>(scale);  // 1 m scale bar
   cv::line(image, {20, height - 20}, {20 + bar, height - 20}, cv::Scalar(0, 0, 0), 2);
   cv::putText(image, "1 m", {20, height - 28}, cv::FONT_HERSHEY_SIMPLEX, 0.5, cv::Scalar(0, 0, 0), 1, cv::LINE_AA);
-  const std::filesystem::path tmp = path.string() + ".tmp.png";
-  if (!cv::imwrite(tmp.string(), image)) throw InputError("cannot write " + tmp.string());
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw InputError("cannot rename " + tmp.string() + " to " + path.string() + ": " + ec.message());
+  std::vector<std::uint8_t> png;
+  if (!cv::imencode(".png", image, png)) throw InputError("cannot encode " + path.string());
+  WriteFileAtomically(path, std::string(png.begin(), png.end()));
 }
 
 }  // namespace sgslam::app

@@ -88,7 +88,9 @@ TEST(OctoMapRequest, AnUnwritablePathIsLoggedNotThrown) {
   Map map;
   SemanticMapper mapper(config.semantic, std::make_shared<Camera>(config.camera), ClassTable(config.detector), map, /*sequential=*/true);
   SubmitWall(mapper, map, config, 0, 1);
-  EXPECT_NO_THROW(mapper.RequestOctoMap("/nonexistent-folder/so_far.bt"));
+  const test::TempDir dir;
+  test::WriteText(dir / "a_file", "x");  // no folder can be made under a file
+  EXPECT_NO_THROW(mapper.RequestOctoMap(dir / "a_file" / "so_far.bt"));
   EXPECT_EQ(mapper.octomaps_written(), 0u);
 }
 

@@ -392,7 +392,8 @@ TEST(OctoMapBuilder, WallIsOccupiedTheSpaceBeforeItFreeAndTheFileReloads) {
   std::size_t occupied = 0;
   for (auto it = back.begin_leafs(); it != back.end_leafs(); ++it) occupied += back.isNodeOccupied(*it);
   EXPECT_EQ(occupied, map.OccupiedLeaves());
-  EXPECT_THROW(map.Write(dir / "missing" / "x.bt"), InputError);
+  test::WriteText(dir / "a_file", "x");  // no folder can be made under a file
+  EXPECT_THROW(map.Write(dir / "a_file" / "x.bt"), InputError);
 }
 
 TEST(SemanticConfig, BadValuesNameTheirKey) {

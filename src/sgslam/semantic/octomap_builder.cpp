@@ -5,8 +5,10 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <sstream>
 
 #include "sgslam/common/error.h"
+#include "sgslam/io/text_file.h"
 
 namespace sgslam {
 
@@ -116,16 +118,14 @@ std::size_t OctoMapBuilder::OccupiedLeaves() const {
 
 void OctoMapBuilder::Write(const std::filesystem::path& path) {
   Finalize();
-  const std::filesystem::path tmp = path.string() + ".tmp";
+  std::ostringstream bytes(std::ios::binary);
   bool ok = false;
   {
     const MutedStderr quiet;
-    ok = tree_->writeBinaryConst(tmp.string());
+    ok = tree_->writeBinaryConst(bytes);
   }
-  if (!ok) throw InputError("cannot write the OctoMap to " + tmp.string());
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) throw InputError("cannot rename " + tmp.string() + " to " + path.string() + ": " + ec.message());
+  if (!ok) throw InputError("cannot write the OctoMap to " + path.string());
+  WriteFileAtomically(path, bytes.str());
 }
 
 }  // namespace sgslam
