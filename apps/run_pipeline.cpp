@@ -107,7 +107,6 @@ struct FrameLoop {
 FrameLoop RunFrames(const RunOptions& o, const TumDataset& dataset, const Config& config, SlamSystem& system,
                     TruthScorer& truth, const fs::path& out, const Stopwatch& wall) {
   FrameLoop loop;
-  InterruptGuard guard;
   FrameStream stream(dataset, config.camera, static_cast<std::size_t>(config.dataset.prefetch), o.max_frames);
   ProgressBar progress(stream.size());
   const auto start = std::chrono::steady_clock::now();
@@ -200,6 +199,9 @@ nlohmann::json RunStats(const RunOptions& o, const Config& config, const TumData
 }  // namespace
 
 RunSummary RunSequence(const RunOptions& o) {
+  // For the whole run: a SIGUSR1 before the first frame or while the outputs are
+  // written must not end the process (the default action) and lose them.
+  const InterruptGuard guard;
   const RunConfig rc = Configure(o);
   const Config& config = rc.config;
   TumDataset dataset(o.dataset, config.dataset);
