@@ -263,7 +263,7 @@ RunSummary RunSequence(const RunOptions& o) {
     spdlog::warn("no frame was tracked: the map never started, so trajectory.txt and the maps are empty");
   }
   WriteFileAtomically(s.out / "stats.json", stats.dump(2) + "\n");
-  if (!o.save_map.empty() && system.maps_saved() == saved_before) {
+  if (!o.save_map.empty() && system.maps_saved() == saved_before && system.NumKeyFrames() > 0) {
     throw InputError("the map was not saved to " + o.save_map + " (see the error above); the other outputs are in " +
                      s.out.string());
   }

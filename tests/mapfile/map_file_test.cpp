@@ -8,6 +8,7 @@
 #include <fstream>
 
 #include "sgslam/common/error.h"
+#include "sgslam/common/sha256.h"
 #include "sgslam/io/frame_stream.h"
 #include "sgslam/mapfile/map_capture.h"
 #include "sgslam/mapfile/map_file.h"
@@ -155,6 +156,40 @@ TEST(MapFile, InconsistentContentIsRefusedEvenWithAGoodChecksum) {
   d = good;
   d.semantic.clouds.front().keyframe = 123456;
   EXPECT_NE(DecodeError(Encode(d)).find("cloud"), std::string::npos);
+  d = good;
+  d.keyframes.back().keys.front().angle = 1000;  // matching bins the angle
+  EXPECT_NE(DecodeError(Encode(d)).find("out of range"), std::string::npos);
+  d = good;
+  d.semantic.clouds.front().moving_pooled = {2, 2, {0, 0, 0, 0}};  // not the pooled depth's size
+  EXPECT_NE(DecodeError(Encode(d)).find("cloud"), std::string::npos);
+  d = good;
+  d.semantic.clouds.back().points_c.front().p[0] = INFINITY;
+  EXPECT_NE(DecodeError(Encode(d)).find("cloud"), std::string::npos);
+  d = good;
+  d.points.front().observations.push_back(d.points.front().observations.front());
+  EXPECT_NE(DecodeError(Encode(d)).find("repeated"), std::string::npos);
+  d = good;
+  for (KeyFrameData& k : d.keyframes) k.culled = true, k.keys.clear();
+  EXPECT_NE(DecodeError(Encode(d)).find("no keyframe"), std::string::npos);
+}
+
+// A count no file could hold (the checksum is no defence: anyone can compute one)
+// is refused before anything is allocated for it.
+TEST(MapFile, AHugeCountIsRefusedNotAllocated) {
+  std::string payload(1, '\x01');  // the portable archive's byte order flag
+  const std::uint64_t huge = std::uint64_t{1} << 60;  // the length of MapData::created
+  payload.append(reinterpret_cast<const char*>(&huge), sizeof huge);
+  payload += std::string(64, 'x');
+  std::string file = "SGMAP";
+  file.append(3, '\0');
+  const std::uint32_t version = kFormatVersion;
+  const std::uint64_t size = payload.size();
+  file.append(reinterpret_cast<const char*>(&version), sizeof version);
+  file.append(reinterpret_cast<const char*>(&size), sizeof size);
+  const std::string hex = Sha256Hex(payload);
+  for (std::size_t i = 0; i < 32; ++i) file += static_cast<char>(std::stoi(hex.substr(2 * i, 2), nullptr, 16));
+  file += payload;
+  EXPECT_NE(DecodeError(file).find("cannot decode"), std::string::npos) << DecodeError(file);
 }
 
 TEST(MapFile, AMapOfAnotherCameraOrVocabularyIsRefused) {

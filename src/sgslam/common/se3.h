@@ -27,6 +27,14 @@ class SE3 {
   SE3() = default;
   SE3(const Eigen::Quaterniond& q, const Eigen::Vector3d& t) : q_(q.normalized()), t_(t) {}
   SE3(const Eigen::Matrix3d& R, const Eigen::Vector3d& t) : q_(Eigen::Quaterniond(R).normalized()), t_(t) {}
+  // q must be a unit quaternion already (one read back from a file): kept bit for
+  // bit, where normalising it again could change its last bits.
+  static SE3 FromUnitQuaternion(const Eigen::Quaterniond& q, const Eigen::Vector3d& t) {
+    SE3 T;
+    T.q_ = q;
+    T.t_ = t;
+    return T;
+  }
 
   static SE3 Exp(const Vector6d& xi);
   Vector6d Log() const;

@@ -154,6 +154,21 @@ void KeyFrame::SetParent(const std::shared_ptr<KeyFrame>& parent) {
 void KeyFrame::AddChild(const std::shared_ptr<KeyFrame>& child) { children_[child->id] = child; }
 void KeyFrame::EraseChild(std::uint64_t child_id) { children_.erase(child_id); }
 
+std::vector<std::pair<std::uint64_t, int>> KeyFrame::CovisibleOrder() const {
+  std::vector<std::pair<std::uint64_t, int>> out;
+  for (const auto& [w, weak] : ordered_) {
+    if (const auto kf = weak.lock()) out.emplace_back(kf->id, w);
+  }
+  return out;
+}
+
+void KeyFrame::RestoreConnections(const Edges& connections, const Edges& order) {
+  connections_.clear();
+  for (const auto& [kf, w] : connections) connections_[kf->id] = {kf, w};
+  ordered_.clear();
+  for (const auto& [kf, w] : order) ordered_.emplace_back(w, kf);
+}
+
 void KeyFrame::RestoreCulled(std::shared_ptr<KeyFrame> parent, const SE3& T_c_parent) {
   bad_ = true;
   T_c_parent_ = T_c_parent;

@@ -65,6 +65,12 @@ class KeyFrame : public std::enable_shared_from_this<KeyFrame> {
   void AddConnection(const std::shared_ptr<KeyFrame>& other, int weight);
   // Every keyframe with an edge, weak ones too (ORB-SLAM2's GetConnectedKeyFrames).
   std::vector<std::uint64_t> ConnectedIds() const;
+  // The covisibility order Covisibles() walks (id, weight): the strong edges after
+  // this keyframe's own UpdateConnections, every edge after a neighbour's change.
+  std::vector<std::pair<std::uint64_t, int>> CovisibleOrder() const;
+  // A keyframe loaded from a saved map (mapfile/): its edges and their order as saved.
+  using Edges = std::vector<std::pair<std::shared_ptr<KeyFrame>, int>>;
+  void RestoreConnections(const Edges& connections, const Edges& order);
 
   // [map] Loop edges (a verified loop closed between the two), kept for later
   // pose-graph optimisations; a keyframe with one is never culled.

@@ -18,7 +18,9 @@ Pose ToPose(const SE3& T) {
 }
 
 SE3 FromPose(const Pose& p) {
-  return SE3(Eigen::Quaterniond(p.q[3], p.q[0], p.q[1], p.q[2]), Eigen::Vector3d(p.t[0], p.t[1], p.t[2]));
+  // Checked to be of unit norm (CheckMapData): kept bit for bit.
+  return SE3::FromUnitQuaternion(Eigen::Quaterniond(p.q[3], p.q[0], p.q[1], p.q[2]),
+                                 Eigen::Vector3d(p.t[0], p.t[1], p.t[2]));
 }
 
 std::string UtcNow() {
@@ -62,7 +64,6 @@ KeyFrameData CaptureKeyFrame(const KeyFrame& kf) {
     return k;
   }
   if (const auto parent = kf.parent()) k.parent = parent->id;
-  CaptureFeatures(*kf.features, k);
   if (kf.bow) {
     k.has_bow = true;
     k.bow_words = kf.bow->words;
@@ -70,11 +71,13 @@ KeyFrameData CaptureKeyFrame(const KeyFrame& kf) {
   }
   for (const auto& p : kf.map_points()) k.point_ids.push_back(p && !p->bad() ? p->id : kNoId);
   for (std::uint64_t other : kf.ConnectedIds()) k.connections.emplace_back(other, kf.Weight(other));
+  for (const auto& [other, weight] : kf.CovisibleOrder()) k.covisible_order.emplace_back(other, weight);
   for (const auto& other : kf.LoopEdges()) k.loop_edges.push_back(other->id);
   return k;
 }
 
-MapPointData CapturePoint(const MapPoint& p) {
+// Observations of keyframes not in `keyframes` (not inserted yet) are left out.
+MapPointData CapturePoint(const MapPoint& p, const std::set<std::uint64_t>& keyframes) {
   MapPointData d;
   d.id = p.id;
   d.first_keyframe_id = p.first_keyframe_id;
@@ -87,8 +90,15 @@ MapPointData CapturePoint(const MapPoint& p) {
   d.max_distance = a.max_distance;
   d.visible = a.visible;
   d.found = a.found;
-  if (const auto ref = p.reference_keyframe()) d.reference = ref->id;
-  for (const auto& [kf_id, obs] : p.observations()) d.observations.emplace_back(kf_id, static_cast<std::uint32_t>(obs.index));
+  for (const auto& [kf_id, obs] : p.observations()) {
+    if (keyframes.count(kf_id)) d.observations.emplace_back(kf_id, static_cast<std::uint32_t>(obs.index));
+  }
+  const auto ref = p.reference_keyframe();
+  if (ref && keyframes.count(ref->id)) {
+    d.reference = ref->id;
+  } else if (!d.observations.empty()) {
+    d.reference = d.observations.front().first;
+  }
   return d;
 }
 
@@ -159,33 +169,53 @@ MapData CaptureMap(const Map& map, const Settings& settings, std::uint64_t next_
   MapData d;
   d.created = UtcNow();
   d.settings = settings;
-  KeyFrameSet keyframes;
-  for (const auto& [id, kf] : map.keyframes()) keyframes[id] = kf.get();
-  for (const auto& kf : PendingKeyFrames(map)) keyframes[kf->id] = kf.get();
-  std::set<std::uint64_t> live;
-  for (const auto& [id, kf] : keyframes) live.insert(id);
-  for (std::uint64_t id : live) {
-    if (const auto parent = keyframes.at(id)->parent()) Anchor(parent.get(), keyframes);
+  std::vector<std::shared_ptr<const Features>> features;  // per captured keyframe, null when culled
+  {
+    std::shared_lock lock(map.mutex());
+    KeyFrameSet keyframes;
+    for (const auto& [id, kf] : map.keyframes()) keyframes[id] = kf.get();
+    std::set<std::uint64_t> live;
+    for (const auto& [id, kf] : keyframes) live.insert(id);
+    for (std::uint64_t id : live) {
+      if (const auto parent = keyframes.at(id)->parent()) Anchor(parent.get(), keyframes);
+    }
+    if (semantic) CaptureSemantic(*semantic, keyframes, d);
+    std::uint64_t next_kf = 0;
+    for (const auto& [id, kf] : keyframes) {
+      KeyFrameData& k = d.keyframes.emplace_back(CaptureKeyFrame(*kf));
+      features.push_back(kf->bad() ? nullptr : kf->features);
+      // Edges to culled keyframes that linger on one side of a covisibility link go.
+      const auto gone = [&](const auto& c) { return !live.count(c.first); };
+      std::erase_if(k.connections, gone);
+      std::erase_if(k.covisible_order, gone);
+      std::erase_if(k.loop_edges, [&](std::uint64_t other) { return !live.count(other); });
+      next_kf = id + 1;
+    }
+    std::uint64_t next_point = 0;
+    for (const auto& [id, p] : map.map_points()) {
+      if (p->bad()) continue;
+      MapPointData point = CapturePoint(*p, live);
+      if (point.observations.empty()) continue;  // seen only by a keyframe not inserted yet
+      d.points.push_back(std::move(point));
+      next_point = id + 1;
+    }
+    // New ids continue after every id the map ever gave (culled entities' too).
+    d.next_keyframe_id = std::max(next_kf, map.next_keyframe_id());
+    d.next_point_id = std::max(next_point, map.next_point_id());
   }
-  if (semantic) CaptureSemantic(*semantic, keyframes, d);
-  std::uint64_t next_kf = 0;
-  for (const auto& [id, kf] : keyframes) {
-    KeyFrameData& k = d.keyframes.emplace_back(CaptureKeyFrame(*kf));
-    // Edges to culled keyframes that linger on one side of a covisibility link go.
-    std::erase_if(k.connections, [&](const auto& c) { return !live.count(c.first); });
-    std::erase_if(k.loop_edges, [&](std::uint64_t other) { return !live.count(other); });
-    next_kf = id + 1;
+  // Only the points captured keep their slot in the keyframes.
+  std::set<std::uint64_t> points;
+  for (const MapPointData& p : d.points) points.insert(p.id);
+  for (std::size_t i = 0; i < d.keyframes.size(); ++i) {
+    KeyFrameData& k = d.keyframes[i];
+    for (std::uint64_t& id : k.point_ids) {
+      if (id != kNoId && !points.count(id)) id = kNoId;
+    }
+    if (features[i]) CaptureFeatures(*features[i], k);  // immutable: no lock needed
   }
-  std::uint64_t next_point = 0;
-  for (const auto& [id, p] : map.map_points()) {
-    if (p->bad()) continue;
-    d.points.push_back(CapturePoint(*p));
-    next_point = id + 1;
-  }
-  // New ids continue after every id the map ever gave (culled entities' too).
-  d.next_keyframe_id = std::max(next_kf, map.next_keyframe_id());
-  d.next_point_id = std::max(next_point, map.next_point_id());
+  // Keyframes made after the request (copied later, on the semantic thread) count too.
   d.next_frame_id = next_frame_id;
+  for (const KeyFrameData& k : d.keyframes) d.next_frame_id = std::max(d.next_frame_id, k.frame_id + 1);
   return d;
 }
 
@@ -294,7 +324,10 @@ void RestoreGraph(const MapData& data, const std::map<std::uint64_t, std::shared
       continue;
     }
     if (parent) kf->SetParent(parent);
-    for (const auto& [other, weight] : k.connections) kf->AddConnection(kfs.at(other), weight);
+    KeyFrame::Edges connections, order;
+    for (const auto& [other, weight] : k.connections) connections.emplace_back(kfs.at(other), weight);
+    for (const auto& [other, weight] : k.covisible_order) order.emplace_back(kfs.at(other), weight);
+    kf->RestoreConnections(connections, order);
     for (std::uint64_t other : k.loop_edges) kf->AddLoopEdge(kfs.at(other));
   }
 }
@@ -317,13 +350,14 @@ SemanticState RestoreMap(const MapData& data, Map& map, const std::shared_ptr<co
                            d.max_distance, d.visible, d.found};
     auto p = std::make_shared<MapPoint>(d.id, d.first_keyframe_id, d.created_t,
                                         Eigen::Vector3d(d.position[0], d.position[1], d.position[2]), a);
-    for (const auto& [kf_id, index] : d.observations) {
-      const auto& kf = kfs.at(kf_id);
-      p->AddObservation(kf, index);
-      kf->SetMapPoint(index, p);
-    }
+    for (const auto& [kf_id, index] : d.observations) p->AddObservation(kfs.at(kf_id), index);
     if (d.reference != kNoId) p->RestoreReference(kfs.at(d.reference));
     map.AddMapPoint(p);
+  }
+  for (const KeyFrameData& k : data.keyframes) {
+    for (std::size_t i = 0; i < k.point_ids.size(); ++i) {
+      if (k.point_ids[i] != kNoId) kfs.at(k.id)->SetMapPoint(i, map.map_points().at(k.point_ids[i]));
+    }
   }
   map.RestoreIds(data.next_keyframe_id, data.next_point_id);
 

@@ -1,8 +1,7 @@
 // Between a live map and its saved form (map_data.h): CaptureMap copies the map
 // (and the semantic layer) into plain data, RestoreMap builds an empty Map up from
-// it. Keyframes tracking made but local mapping has not inserted yet are saved as
-// keyframes; culled keyframes are saved (without features) only when the semantic
-// layer is anchored to them.
+// it. Culled keyframes are saved (without features) only when the semantic layer or
+// the spanning tree is anchored to them.
 #pragma once
 
 #include <memory>
@@ -15,8 +14,11 @@
 
 namespace sgslam::mapfile {
 
-// Under the map's shared lock. semantic: the semantic mapper's state, or null
-// without the semantic thread. next_frame_id: the system's next frame id.
+// Takes the map's shared lock while it copies the map's structure; the keyframes'
+// features (immutable once in the map) are copied after. Keyframes local mapping has
+// not inserted yet are left out, with their observations. semantic: the semantic
+// mapper's state, or null without the semantic thread. next_frame_id: the system's
+// next frame id.
 MapData CaptureMap(const Map& map, const Settings& settings, std::uint64_t next_frame_id,
                    const SemanticState* semantic);
 

@@ -69,6 +69,7 @@ struct KeyFrameData {
 
   std::vector<std::uint64_t> point_ids;  // per keypoint, kNoId where none
   std::vector<std::pair<std::uint64_t, std::int32_t>> connections;  // covisibility: keyframe, weight
+  std::vector<std::pair<std::uint64_t, std::int32_t>> covisible_order;  // KeyFrame::CovisibleOrder()
   std::vector<std::uint64_t> loop_edges;
   bool operator==(const KeyFrameData&) const = default;
 };

@@ -12,13 +12,73 @@
 #include <Eigen/Core>
 #include <cereal/archives/portable_binary.hpp>
 #include <cereal/types/array.hpp>
-#include <cereal/types/string.hpp>
 #include <cereal/types/utility.hpp>
-#include <cereal/types/vector.hpp>
 
 #include "sgslam/common/error.h"
 #include "sgslam/common/sha256.h"
 #include "sgslam/io/text_file.h"
+
+namespace sgslam::mapfile {
+namespace {
+
+// The payload being decoded: a crafted element count must not allocate far more
+// than the bytes left could hold (cereal's own vector and string loaders resize first).
+thread_local const std::istream* g_payload = nullptr;
+thread_local std::size_t g_payload_size = 0;
+
+// Throws when n elements of `bytes` bytes each (in memory) cannot come from the
+// bytes left: an arithmetic element takes its size in the stream, any other at least
+// an eighth of its size in memory (a size tag and its fields).
+void CheckCount(std::uint64_t n, std::size_t bytes, bool arithmetic) {
+  if (!g_payload) return;  // encoding
+  const auto at = static_cast<std::size_t>(const_cast<std::istream*>(g_payload)->tellg());
+  const std::size_t left = at <= g_payload_size ? g_payload_size - at : 0;
+  const double need = static_cast<double>(n) * static_cast<double>(bytes) / (arithmetic ? 1.0 : 8.0);
+  if (need > static_cast<double>(left)) throw std::length_error("a count larger than the data left");
+}
+
+}  // namespace
+}  // namespace sgslam::mapfile
+
+// std::vector and std::string for cereal, as its own (types/vector.hpp,
+// types/string.hpp), with CheckCount before allocating; this file includes neither.
+namespace cereal {
+template <class Archive, class T, class A>
+void CEREAL_SAVE_FUNCTION_NAME(Archive& ar, const std::vector<T, A>& v) {
+  static_assert(!std::is_same_v<T, bool>);
+  ar(make_size_tag(static_cast<size_type>(v.size())));
+  if constexpr (std::is_arithmetic_v<T>) {
+    ar(binary_data(v.data(), v.size() * sizeof(T)));
+  } else {
+    for (const auto& x : v) ar(x);
+  }
+}
+template <class Archive, class T, class A>
+void CEREAL_LOAD_FUNCTION_NAME(Archive& ar, std::vector<T, A>& v) {
+  size_type n = 0;
+  ar(make_size_tag(n));
+  sgslam::mapfile::CheckCount(n, sizeof(T), std::is_arithmetic_v<T>);
+  v.resize(static_cast<std::size_t>(n));
+  if constexpr (std::is_arithmetic_v<T>) {
+    ar(binary_data(v.data(), v.size() * sizeof(T)));
+  } else {
+    for (auto& x : v) ar(x);
+  }
+}
+template <class Archive>
+void CEREAL_SAVE_FUNCTION_NAME(Archive& ar, const std::string& s) {
+  ar(make_size_tag(static_cast<size_type>(s.size())));
+  ar(binary_data(s.data(), s.size()));
+}
+template <class Archive>
+void CEREAL_LOAD_FUNCTION_NAME(Archive& ar, std::string& s) {
+  size_type n = 0;
+  ar(make_size_tag(n));
+  sgslam::mapfile::CheckCount(n, 1, true);
+  s.resize(static_cast<std::size_t>(n));
+  ar(binary_data(s.data(), s.size()));
+}
+}  // namespace cereal
 
 namespace sgslam::mapfile {
 
@@ -43,7 +103,7 @@ template <class A>
 void serialize(A& ar, KeyFrameData& k) {
   ar(k.id, k.frame_id, k.t, k.T_c_w, k.culled, k.parent, k.T_c_parent);
   ar(k.keys, k.keys_un, k.depth, k.u_right, k.descriptors, k.dynamic, k.unjudged, k.detections, k.angular_velocity);
-  ar(k.has_bow, k.bow_words, k.bow_nodes, k.point_ids, k.connections, k.loop_edges);
+  ar(k.has_bow, k.bow_words, k.bow_nodes, k.point_ids, k.connections, k.covisible_order, k.loop_edges);
 }
 template <class A>
 void serialize(A& ar, MapPointData& p) {
@@ -137,6 +197,11 @@ MapData Decode(const std::string& bytes, const std::string& what) {
   MapData data;
   try {
     std::istringstream in(payload, std::ios::binary);
+    g_payload = &in;
+    g_payload_size = payload.size();
+    struct Reset {
+      ~Reset() { g_payload = nullptr; }
+    } reset;
     cereal::PortableBinaryInputArchive ar(in);
     ar(data);
     if (in.peek() != std::char_traits<char>::eof()) Fail(what, "bytes left over after the map (corrupt)");
@@ -187,7 +252,9 @@ std::string CheckKeyFrameArrays(const KeyFrameData& k, int levels) {
   }
   for (std::size_t i = 0; i < n; ++i) {
     const KeyPointData& p = k.keys[i];
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !AllFinite(k.keys_un[i]) || p.octave < 0 || p.octave >= levels) {
+    // Matching bins the angle (0-360 degrees) and indexes the pyramid by octave.
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !AllFinite(k.keys_un[i]) || p.octave < 0 || p.octave >= levels ||
+        !(p.angle >= 0 && p.angle < 360) || !std::isfinite(p.size) || !std::isfinite(p.response)) {
       return "keypoint " + std::to_string(i) + " is out of range";
     }
   }
@@ -230,8 +297,11 @@ void CheckKeyFrames(const MapData& d, const std::string& what, std::map<std::uin
     for (const auto& [other, weight] : k.connections) {
       if (!live(other) || other == k.id) fail("covisible keyframe", other);
     }
+    for (const auto& [other, weight] : k.covisible_order) {
+      if (!live(other) || other == k.id) fail("covisible keyframe", other);
+    }
     for (std::uint64_t other : k.loop_edges) {
-      if (!live(other)) fail("loop keyframe", other);
+      if (!live(other) || other == k.id) fail("loop keyframe", other);
     }
     for (std::uint64_t p : k.point_ids) {
       if (p != kNoId && !point_ids.count(p)) fail("map point", p);
@@ -250,6 +320,9 @@ void CheckPoints(const MapData& d, const std::string& what, const std::map<std::
       Fail(what, name + ": not finite");
     }
     if (p.observations.empty() || (p.reference != kNoId && !kfs.count(p.reference))) Fail(what, name + ": no observation, or an unknown reference");
+    for (std::size_t k = 1; k < p.observations.size(); ++k) {
+      if (p.observations[k].first <= p.observations[k - 1].first) Fail(what, name + ": observations repeated or unordered");
+    }
     for (const auto& [kf, index] : p.observations) {
       const auto it = kfs.find(kf);
       if (it == kfs.end() || it->second->culled || index >= it->second->point_ids.size() ||
@@ -262,19 +335,29 @@ void CheckPoints(const MapData& d, const std::string& what, const std::map<std::
 
 void CheckSemantic(const MapData& d, const std::string& what, const std::map<std::uint64_t, const KeyFrameData*>& kfs) {
   const auto image_ok = [](const ImageData& i) {
-    return i.rows >= 0 && i.cols >= 0 && i.pixels.size() == static_cast<std::size_t>(i.rows) * i.cols;
+    return i.rows >= 0 && i.cols >= 0 && i.pixels.size() == static_cast<std::size_t>(i.rows) * i.cols &&
+           AllFinite(i.pixels);
+  };
+  const auto points_ok = [](const std::vector<ColoredPointData>& points) {
+    return std::all_of(points.begin(), points.end(), [](const ColoredPointData& p) { return AllFinite(p.p); });
   };
   for (const CloudData& c : d.semantic.clouds) {
-    if (!kfs.count(c.keyframe) || !image_ok(c.depth_pooled) || !image_ok(c.moving_pooled)) {
-      Fail(what, "a cloud of keyframe " + std::to_string(c.keyframe) + " is inconsistent");
+    // The movers' depth is none or one per pooled depth pixel (the filters index both alike).
+    const bool moving_ok = c.moving_pooled.pixels.empty() || (c.moving_pooled.rows == c.depth_pooled.rows &&
+                                                              c.moving_pooled.cols == c.depth_pooled.cols);
+    if (!kfs.count(c.keyframe) || !image_ok(c.depth_pooled) || !image_ok(c.moving_pooled) || !moving_ok ||
+        !points_ok(c.points_c) || !points_ok(c.rays_c)) {
+      Fail(what, "the cloud of keyframe " + std::to_string(c.keyframe) + " is inconsistent");
     }
   }
   for (const ObjectData& o : d.semantic.objects) {
+    bool ok = AllFinite(o.box_min) && AllFinite(o.box_max);
     for (const ObjectObservationData& obs : o.observations) {
-      if ((obs.keyframe != kNoId && !kfs.count(obs.keyframe)) || !Finite(obs.T_w_c_added)) {
-        Fail(what, "object " + std::to_string(o.id) + " has an observation of an unknown keyframe");
-      }
+      ok = ok && (obs.keyframe == kNoId || kfs.count(obs.keyframe)) && Finite(obs.T_w_c_added) && AllFinite(obs.box) &&
+           std::isfinite(obs.score) &&
+           std::all_of(obs.points_c.begin(), obs.points_c.end(), [](const auto& p) { return AllFinite(p); });
     }
+    if (!ok) Fail(what, "object " + std::to_string(o.id) + " is inconsistent (an unknown keyframe or a value not finite)");
   }
 }
 
@@ -283,6 +366,15 @@ void CheckSemantic(const MapData& d, const std::string& what, const std::map<std
 void CheckMapData(const MapData& d, const std::string& what) {
   if (d.settings.orb_levels <= 0 || d.settings.orb_levels > 32 || !(d.settings.orb_scale_factor > 1)) {
     Fail(what, "ORB settings out of range");
+  }
+  // Ids continue after these: far from wrapping around.
+  constexpr std::uint64_t kMaxId = std::uint64_t{1} << 62;
+  if (d.next_keyframe_id > kMaxId || d.next_point_id > kMaxId || d.next_frame_id > kMaxId ||
+      d.semantic.next_object_id < 1) {
+    Fail(what, "id counters out of range");
+  }
+  if (std::none_of(d.keyframes.begin(), d.keyframes.end(), [](const KeyFrameData& k) { return !k.culled; })) {
+    Fail(what, "the map holds no keyframe");
   }
   std::map<std::uint64_t, const KeyFrameData*> kfs;
   CheckKeyFrames(d, what, kfs);

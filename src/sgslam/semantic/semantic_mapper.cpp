@@ -65,10 +65,10 @@ cv::Mat MinPooledDepth(const cv::Mat& depth_raw, double depth_factor, int factor
 // camera-frame point q projects to; none outside the image.
 std::optional<cv::Point> PooledPixel(cv::Size pooled, const Camera& camera, const Eigen::Vector3d& q, int factor) {
   const Eigen::Vector2d uv = camera.Distort(camera.Project(q));
-  if (uv.x() < 0 || uv.y() < 0) return std::nullopt;
-  const cv::Point px(static_cast<int>(uv.x() / factor), static_cast<int>(uv.y() / factor));
-  if (px.x >= pooled.width || px.y >= pooled.height) return std::nullopt;
-  return px;
+  // Compared as doubles: a NaN or a huge coordinate must not reach the int cast.
+  const double x = uv.x() / factor, y = uv.y() / factor;
+  if (!(x >= 0 && y >= 0 && x < pooled.width && y < pooled.height)) return std::nullopt;
+  return cv::Point(static_cast<int>(x), static_cast<int>(y));
 }
 
 }  // namespace
@@ -463,7 +463,8 @@ void SemanticMapper::DropPointsOtherViewsContradict(const std::vector<SE3>& T_c_
         if (c.consistency_filter && z > 0 && z > q.z() + tolerance) {
           if (++through >= c.consistency_min_votes) break;  // keyframe j sees what lies behind the point
         }
-        if (!seen_moving) continue;
+        // A cloud made without the seen-moving filter (a loaded map) has no movers' depth.
+        if (!seen_moving || clouds_[j].moving_pooled.size() != clouds_[j].depth_pooled.size()) continue;
         const float zm = clouds_[j].moving_pooled.at<float>(*px);
         if (zm > 0 && std::abs(zm - q.z()) <= tolerance) {
           ++moving;  // keyframe j masked a mover right there

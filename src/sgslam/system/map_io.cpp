@@ -51,6 +51,10 @@ void SlamSystem::LoadMap(const mapfile::MapData& data, const std::string& what) 
 }
 
 bool SlamSystem::SaveMap(const std::filesystem::path& path) {
+  if (NumKeyFrames() == 0) {
+    spdlog::warn("map not saved to {}: the map is empty (no frame was tracked)", path.string());
+    return false;
+  }
   if (saving_.exchange(true)) {
     spdlog::warn("map save to {} refused: the previous save is still being written", path.string());
     return false;
@@ -68,13 +72,20 @@ bool SlamSystem::SaveMap(const std::filesystem::path& path) {
 
 void SlamSystem::SaveCaptured(const std::filesystem::path& path, const SemanticState* semantic,
                               std::uint64_t next_frame_id, bool now) {
-  const Stopwatch copy;
-  auto data = std::make_shared<mapfile::MapData>();
-  {
-    std::shared_lock lock(map_.mutex());
-    *data = mapfile::CaptureMap(map_, SettingsOf(config_, places_.get()), next_frame_id, semantic);
+  // On the semantic thread: nothing may escape (it would end the process), and
+  // saving_ must end false whatever happens.
+  std::shared_ptr<mapfile::MapData> data;
+  double copy_ms = 0;
+  try {
+    const Stopwatch copy;
+    data = std::make_shared<mapfile::MapData>(
+        mapfile::CaptureMap(map_, SettingsOf(config_, places_.get()), next_frame_id, semantic));
+    copy_ms = copy.ElapsedMs();
+  } catch (const std::exception& e) {
+    spdlog::error("map not saved to {}: {}", path.string(), e.what());
+    saving_ = false;
+    return;
   }
-  const double copy_ms = copy.ElapsedMs();
   auto write = [this, path, data, copy_ms] {
     try {
       const Stopwatch watch;
@@ -93,7 +104,12 @@ void SlamSystem::SaveCaptured(const std::filesystem::path& path, const SemanticS
   }
   std::lock_guard lock(save_mutex_);
   if (saver_.joinable()) saver_.join();  // the previous save's thread, already done (saving_ was false)
-  saver_ = std::thread(write);
+  try {
+    saver_ = std::thread(write);
+  } catch (const std::system_error& e) {
+    spdlog::warn("no thread for the map save ({}): writing it here", e.what());
+    write();
+  }
 }
 
 }  // namespace sgslam
