@@ -55,25 +55,46 @@ double ParseNumber(std::string_view token, const fs::path& path, int line, const
   return value;
 }
 
+namespace {
+
+// The process's umask, without changing it (umask() would, for every thread).
+mode_t CurrentUmask() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind("Umask:", 0) == 0) return static_cast<mode_t>(std::stoul(line.substr(6), nullptr, 8));
+  }
+  return 022;
+}
+
+bool WriteAll(int fd, const std::string& content) {
+  const char* data = content.data();
+  std::size_t left = content.size();
+  while (left > 0) {
+    const ssize_t n = write(fd, data, left);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return false;
+    data += n;
+    left -= static_cast<std::size_t>(n);
+  }
+  return true;
+}
+
+}  // namespace
+
 void WriteFileAtomically(const fs::path& path, const std::string& content) {
   std::error_code ec;
-  if (path.has_parent_path()) fs::create_directories(path.parent_path(), ec);
+  const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
+  fs::create_directories(dir, ec);
   // A fresh name created exclusively: a file or link planted under a fixed
   // temporary name is never written through.
   std::string tmp = path.string() + ".tmp.XXXXXX";
-  const int fd = mkstemp(tmp.data());
+  const int fd = mkostemp(tmp.data(), O_CLOEXEC);
   if (fd < 0) throw InputError("cannot write file: " + path.string() + ": " + std::strerror(errno));
-  const char* data = content.data();
-  std::size_t left = content.size();
-  bool ok = true;
-  while (left > 0 && ok) {
-    const ssize_t n = write(fd, data, left);
-    if (n < 0 && errno == EINTR) continue;
-    ok = n > 0;
-    if (ok) data += n, left -= static_cast<std::size_t>(n);
-  }
+  // Complete on disk before it replaces the old file (a power cut leaves one of the two).
+  bool ok = WriteAll(fd, content) && fsync(fd) == 0;
   const std::string why = ok ? "" : std::strerror(errno);
-  ok = ok && fchmod(fd, 0644) == 0;  // as an ordinary new file (mkstemp makes it 0600)
+  ok = fchmod(fd, 0666 & ~CurrentUmask()) == 0 && ok;  // as an ordinary new file (mkstemp makes it 0600)
   if (close(fd) != 0) ok = false;
   if (!ok) {
     fs::remove(tmp, ec);
@@ -84,6 +105,10 @@ void WriteFileAtomically(const fs::path& path, const std::string& content) {
     std::error_code ignored;
     fs::remove(tmp, ignored);
     throw InputError("cannot rename " + tmp + " to " + path.string() + ": " + ec.message());
+  }
+  if (const int d = open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); d >= 0) {
+    fsync(d);  // the rename itself
+    close(d);
   }
 }
 
