@@ -1,6 +1,7 @@
 // Map reuse end to end on a synthetic sequence with exact ground truth: a map saved
 // at the end of one run is where the next run starts (the first frame relocalised
-// in it, poses in its frame); maps saved while the threads run are whole.
+// in it, poses in its frame), extending it or only localising in it; maps saved
+// while the threads run are whole and load again to the same content.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -41,11 +42,13 @@ struct Outcome {
 
 // Runs seq through a system, from `load` when given, saving to `save` at the end
 // (and every `save_every` frames while running, to numbered files).
-Outcome RunSequence(const fs::path& seq, bool sequential, const fs::path& load, const fs::path& save, int save_every = 0) {
+Outcome RunSequence(const fs::path& seq, bool sequential, const fs::path& load, const fs::path& save, int save_every = 0,
+                    bool localize = false) {
   const RunConfig rc = Config(seq);
   const TumDataset dataset(seq, rc.config.dataset);
   SlamSystem system(rc.config, sequential);
   if (!load.empty()) system.LoadMap(mapfile::ReadMapFile(load), load.string());
+  system.SetLocalizationOnly(localize);
   FrameStream stream(dataset, rc.config.camera, 2);
   Outcome out;
   while (auto frame = stream.Next()) {
@@ -93,6 +96,13 @@ TEST(MapReuse, TheNextRunStartsInTheSavedMap) {
   EXPECT_LT(ate, 0.02);
   // The same places: the map hardly grows.
   EXPECT_LE(again.keyframes, first.keyframes + 3);
+  // Localising only: the same, and nothing added.
+  const Outcome localised = RunSequence(seq, true, dir / "walkers.map", {}, 0, /*localize=*/true);
+  EXPECT_EQ(localised.states.front(), TrackState::kOk);
+  EXPECT_GE(std::count(localised.states.begin(), localised.states.end(), TrackState::kOk),
+            static_cast<long>(localised.states.size() * 95 / 100));
+  EXPECT_LT(eval::ComputeAteAt(gt, localised.trajectory, T_gt_map, FromSeconds(0.02)).stats.rmse, 0.02);
+  EXPECT_EQ(localised.keyframes, first.keyframes);
 }
 
 // Run under TSan in CI's sanitizer job: the copy runs on the semantic thread, the
