@@ -401,7 +401,7 @@ std::string Describe(const MapData& d) {
     << c.cy << ", depth factor " << c.depth_factor << "\n";
   o << "ORB: " << d.settings.orb_levels << " levels, scale " << d.settings.orb_scale_factor << "; vocabulary "
     << (d.settings.vocabulary_checksum.empty() ? "none" : d.settings.vocabulary_checksum.substr(0, 16) + "...") << "\n";
-  o << "keyframes " << live << " (" << culled << " culled ones kept for the semantic map), map points "
+  o << "keyframes " << live << " (and " << culled << " culled, kept as anchors of the semantic map), map points "
     << d.points.size() << "\n";
   if (!d.points.empty()) {
     o.precision(2);
