@@ -223,7 +223,7 @@ RunSummary RunSequence(const RunOptions& o) {
     const Stopwatch load;
     system.LoadMap(mapfile::ReadMapFile(o.load_map), o.load_map);
     system.SetLocalizationOnly(o.localize);
-    spdlog::info("map loaded in {:.0f} ms (read, checked, restored, OctoMap rebuilt)", load.ElapsedMs());
+    spdlog::info("map loaded in {:.0f} ms (read, checked and restored)", load.ElapsedMs());
   }
   if (config.camera.readout > 0) {
     spdlog::info("rolling shutter: rows read out over {:.0f} ms (camera.readout; 0 for a global shutter)",

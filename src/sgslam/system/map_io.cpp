@@ -91,8 +91,10 @@ void SlamSystem::SaveCaptured(const std::filesystem::path& path, const SemanticS
       const Stopwatch watch;
       mapfile::WriteMapFile(path, *data);
       ++maps_saved_;
+      const auto live = std::count_if(data->keyframes.begin(), data->keyframes.end(),
+                                      [](const mapfile::KeyFrameData& k) { return !k.culled; });
       spdlog::info("map saved to {}: {} keyframes, {} points (copied in {:.0f} ms, written in {:.0f} ms)",
-                   path.string(), data->keyframes.size(), data->points.size(), copy_ms, watch.ElapsedMs());
+                   path.string(), live, data->points.size(), copy_ms, watch.ElapsedMs());
     } catch (const std::exception& e) {
       spdlog::error("map not saved: {}", e.what());
     }
