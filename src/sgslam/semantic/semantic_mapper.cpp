@@ -190,7 +190,7 @@ void SemanticMapper::RequestOctoMap(const std::filesystem::path& path) {
   wake_.notify_one();
 }
 
-void SemanticMapper::RequestState(std::function<void(const SemanticState&)> fn) {
+void SemanticMapper::RequestState(std::function<void(SemanticState)> fn) {
   if (sequential_ || finished_) {  // this thread is the only one touching the clouds
     fn(State());
     return;

@@ -103,11 +103,11 @@ class SemanticMapper {
   std::size_t octomaps_written() const;
   bool has_keyframe_detector() const { return has_keyframe_detector_; }
 
-  // Calls fn with the semantic map's state (copies; keyframes shared): at once in
+  // Calls fn with a copy of the semantic map's state (keyframes shared): at once in
   // sequential mode or after Finish(), else on the semantic thread after the
-  // keyframe it is on, so fn must not block for long (copy, then hand over). fn may
-  // take the map's lock (the worker holds none of its own then).
-  void RequestState(std::function<void(const SemanticState&)> fn);
+  // keyframe it is on, so fn must hand it over rather than work on it there (the
+  // thread runs at the lowest priority: a lock held on it may be held long).
+  void RequestState(std::function<void(SemanticState)> fn);
   // Starts from a saved state (before the first Submit; the keyframes are in the
   // map): the clouds, the objects, and the OctoMap built again with the keyframes'
   // poses now (by the worker, before its first keyframe; at once when sequential).
@@ -209,7 +209,7 @@ class SemanticMapper {
   std::deque<FrameBoxes> frames_;    // the last frames (a bounded history), by frame id
   std::optional<std::uint64_t> last_frame_id_;
   std::optional<std::filesystem::path> octomap_request_;  // guarded by mutex_
-  std::function<void(const SemanticState&)> state_request_;  // guarded by mutex_
+  std::function<void(SemanticState)> state_request_;  // guarded by mutex_
   bool rebuild_pending_ = false;                              // guarded by mutex_ (Restore)
   void RebuildOctoMap();  // from clouds_ with the keyframes' poses now; the worker (or the only thread)
   SemanticState State() const;  // the worker (or the only thread)

@@ -2,6 +2,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <optional>
 
 #include "sgslam/common/error.h"
 #include "sgslam/common/stats.h"
@@ -62,55 +63,50 @@ bool SlamSystem::SaveMap(const std::filesystem::path& path) {
   const std::uint64_t next_frame = next_frame_id_;
   const bool now = sequential_ || finished_;
   if (semantic_) {
-    semantic_->RequestState(
-        [this, path, next_frame, now](const SemanticState& state) { SaveCaptured(path, &state, next_frame, now); });
+    semantic_->RequestState([this, path, next_frame, now](SemanticState state) {
+      SaveCaptured(path, std::move(state), next_frame, now);
+    });
   } else {
-    SaveCaptured(path, nullptr, next_frame, now);
+    SaveCaptured(path, std::nullopt, next_frame, now);
   }
   return true;
 }
 
-void SlamSystem::SaveCaptured(const std::filesystem::path& path, const SemanticState* semantic,
+void SlamSystem::SaveCaptured(const std::filesystem::path& path, std::optional<SemanticState> semantic,
                               std::uint64_t next_frame_id, bool now) {
-  // On the semantic thread: nothing may escape (it would end the process), and
-  // saving_ must end false whatever happens.
-  std::shared_ptr<mapfile::MapData> data;
-  double copy_ms = 0;
-  try {
-    const Stopwatch copy;
-    data = std::make_shared<mapfile::MapData>(
-        mapfile::CaptureMap(map_, SettingsOf(config_, places_.get()), next_frame_id, semantic));
-    copy_ms = copy.ElapsedMs();
-  } catch (const std::exception& e) {
-    spdlog::error("map not saved to {}: {}", path.string(), e.what());
-    saving_ = false;
-    return;
-  }
-  auto write = [this, path, data, copy_ms] {
+  // The map is copied here, not on the (lowest-priority) semantic thread, which
+  // could be preempted while it holds the map's lock. Nothing may escape (on the
+  // saver thread it would end the process), and saving_ ends false.
+  auto save = [this, path, semantic = std::move(semantic), next_frame_id] {
     try {
+      const Stopwatch copy;
+      const mapfile::MapData data = mapfile::CaptureMap(map_, SettingsOf(config_, places_.get()), next_frame_id,
+                                                        semantic ? &*semantic : nullptr);
+      const double copy_ms = copy.ElapsedMs();
       const Stopwatch watch;
-      mapfile::WriteMapFile(path, *data);
+      mapfile::WriteMapFile(path, data);
       ++maps_saved_;
-      const auto live = std::count_if(data->keyframes.begin(), data->keyframes.end(),
+      const auto live = std::count_if(data.keyframes.begin(), data.keyframes.end(),
                                       [](const mapfile::KeyFrameData& k) { return !k.culled; });
       spdlog::info("map saved to {}: {} keyframes, {} points (copied in {:.0f} ms, written in {:.0f} ms)",
-                   path.string(), live, data->points.size(), copy_ms, watch.ElapsedMs());
+                   path.string(), live, data.points.size(), copy_ms, watch.ElapsedMs());
     } catch (const std::exception& e) {
-      spdlog::error("map not saved: {}", e.what());
+      spdlog::error("map not saved to {}: {}", path.string(), e.what());
     }
     saving_ = false;
   };
   if (now) {
-    write();
+    save();
     return;
   }
   std::lock_guard lock(save_mutex_);
   if (saver_.joinable()) saver_.join();  // the previous save's thread, already done (saving_ was false)
+  const auto job = std::make_shared<decltype(save)>(std::move(save));  // still there if no thread starts
   try {
-    saver_ = std::thread(write);
+    saver_ = std::thread([job] { (*job)(); });
   } catch (const std::system_error& e) {
     spdlog::warn("no thread for the map save ({}): writing it here", e.what());
-    write();
+    (*job)();
   }
 }
 

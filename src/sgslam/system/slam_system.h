@@ -205,9 +205,10 @@ class SlamSystem {
   bool finished_ = false;
   // Map saving (SaveMap): one save at a time; the writer thread is started by the
   // thread that copied the map (the semantic one, or this one) under save_mutex_.
-  // now: write in this thread (sequential, finished), else on saver_.
-  void SaveCaptured(const std::filesystem::path& path, const SemanticState* semantic, std::uint64_t next_frame_id,
-                    bool now);
+  // Copies the map and writes it with the semantic state: in this thread when now
+  // (sequential, finished), else on saver_.
+  void SaveCaptured(const std::filesystem::path& path, std::optional<SemanticState> semantic,
+                    std::uint64_t next_frame_id, bool now);
   std::atomic<bool> saving_{false};
   std::atomic<std::size_t> maps_saved_{0};
   std::mutex save_mutex_;  // guards saver_; never held with another lock
