@@ -64,11 +64,6 @@ KeyFrameData CaptureKeyFrame(const KeyFrame& kf) {
     return k;
   }
   if (const auto parent = kf.parent()) k.parent = parent->id;
-  if (kf.bow) {
-    k.has_bow = true;
-    k.bow_words = kf.bow->words;
-    k.bow_nodes = kf.bow->nodes;
-  }
   for (const auto& p : kf.map_points()) k.point_ids.push_back(p && !p->bad() ? p->id : kNoId);
   for (std::uint64_t other : kf.ConnectedIds()) k.connections.emplace_back(other, kf.Weight(other));
   for (const auto& [other, weight] : kf.CovisibleOrder()) k.covisible_order.emplace_back(other, weight);
@@ -169,7 +164,10 @@ MapData CaptureMap(const Map& map, const Settings& settings, std::uint64_t next_
   MapData d;
   d.created = UtcNow();
   d.settings = settings;
-  std::vector<std::shared_ptr<const Features>> features;  // per captured keyframe, null when culled
+  // Per captured keyframe (null when culled): immutable once the keyframe is in the
+  // map, so copied after the lock is released.
+  std::vector<std::shared_ptr<const Features>> features;
+  std::vector<std::shared_ptr<const vocab::BowData>> bows;
   {
     std::shared_lock lock(map.mutex());
     KeyFrameSet keyframes;
@@ -184,6 +182,7 @@ MapData CaptureMap(const Map& map, const Settings& settings, std::uint64_t next_
     for (const auto& [id, kf] : keyframes) {
       KeyFrameData& k = d.keyframes.emplace_back(CaptureKeyFrame(*kf));
       features.push_back(kf->bad() ? nullptr : kf->features);
+      bows.push_back(kf->bad() ? nullptr : kf->bow);
       // Edges to culled keyframes that linger on one side of a covisibility link go.
       const auto gone = [&](const auto& c) { return !live.count(c.first); };
       std::erase_if(k.connections, gone);
@@ -211,7 +210,12 @@ MapData CaptureMap(const Map& map, const Settings& settings, std::uint64_t next_
     for (std::uint64_t& id : k.point_ids) {
       if (id != kNoId && !points.count(id)) id = kNoId;
     }
-    if (features[i]) CaptureFeatures(*features[i], k);  // immutable: no lock needed
+    if (features[i]) CaptureFeatures(*features[i], k);
+    if (bows[i]) {
+      k.has_bow = true;
+      k.bow_words = bows[i]->words;
+      k.bow_nodes = bows[i]->nodes;
+    }
   }
   // Keyframes made after the request (copied later, on the semantic thread) count too.
   d.next_frame_id = next_frame_id;
