@@ -4,6 +4,7 @@
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
+#include <csignal>
 #include <cstdio>
 #include <exception>
 #include <map>
@@ -13,6 +14,9 @@
 
 int main(int argc, char** argv) {
   using namespace sgslam::app;
+  // SIGUSR1 asks a running `sgslam run` for its maps so far; at any other moment
+  // (a run starting or ending, another subcommand) it must not end the process.
+  std::signal(SIGUSR1, SIG_IGN);
   CLI::App root{"sgslam: real-time RGB-D visual SLAM for dynamic scenes (after SG-SLAM)"};
   root.require_subcommand(0, 1);  // so an unknown word is reported as such
   int verbosity = 0;

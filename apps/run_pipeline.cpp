@@ -193,7 +193,36 @@ nlohmann::json RunStats(const RunOptions& o, const Config& config, const TumData
     stats["final_ba"] = {{"ms", gba->ms}, {"keyframes", gba->local_keyframes}, {"points", gba->local_points}};
   }
   AddAte(dataset, trajectory, s, stats);
+  if (!o.load_map.empty() || !o.save_map.empty()) {
+    stats["map_file"] = {{"loaded", o.load_map}, {"localize", o.localize}, {"saved", o.save_map},
+                         {"saves", system.maps_saved()}};
+  }
   return stats;
+}
+
+void WriteConfigUsed(const RunConfig& rc, const fs::path& out) {
+  const std::string yaml = "# effective configuration of this run (source: " + rc.source + ")\n" + ConfigToYaml(rc.config);
+  spdlog::debug("effective configuration:\n{}", yaml);
+  WriteFileAtomically(out / "config_used.yaml", yaml);
+}
+
+// --save-map checked and --load-map loaded, before the first frame.
+void StartFromMap(const RunOptions& o, SlamSystem& system) {
+  if (!o.save_map.empty()) CheckWritable(o.save_map);
+  if (o.load_map.empty()) return;
+  const Stopwatch load;
+  system.LoadMap(mapfile::ReadMapFile(o.load_map), o.load_map);
+  system.SetLocalizationOnly(o.localize);
+  spdlog::info("map loaded in {:.0f} ms (read, checked and restored)", load.ElapsedMs());
+}
+
+// The --save-map file after Finish(); false when it should have been written and was
+// not (an empty map is not saved, and that is no failure).
+bool SaveMapAtEnd(const RunOptions& o, SlamSystem& system) {
+  if (o.save_map.empty()) return true;
+  const std::size_t before = system.maps_saved();
+  system.SaveMap(o.save_map);
+  return system.maps_saved() > before || system.NumKeyFrames() == 0;
 }
 
 }  // namespace
@@ -209,22 +238,14 @@ RunSummary RunSequence(const RunOptions& o) {
   s.out = MakeOutputFolder(o, dataset);
   spdlog::info("dataset {}: {} RGB-D frames ({}), config: {}", dataset.dir().string(), dataset.size(),
                dataset.associations_from_file() ? "associations.txt" : "associated by timestamp", rc.source);
-  const std::string yaml = "# effective configuration of this run (source: " + rc.source + ")\n" + ConfigToYaml(config);
-  spdlog::debug("effective configuration:\n{}", yaml);
-  WriteFileAtomically(s.out / "config_used.yaml", yaml);
+  WriteConfigUsed(rc, s.out);
   if (o.viewer_port != 0) spdlog::warn("--viewer is not built yet; ignored");
 
   std::unique_ptr<Detector> detector = LoadDetector(config, o.dataset);
   const bool has_detector = detector != nullptr;
   SlamSystem system(config, o.sequential, std::move(detector));
   spdlog::info("mode {}, detector: {}", config.dynamic.mode, system.DescribeDetector());
-  if (!o.save_map.empty()) CheckWritable(o.save_map);
-  if (!o.load_map.empty()) {
-    const Stopwatch load;
-    system.LoadMap(mapfile::ReadMapFile(o.load_map), o.load_map);
-    system.SetLocalizationOnly(o.localize);
-    spdlog::info("map loaded in {:.0f} ms (read, checked and restored)", load.ElapsedMs());
-  }
+  StartFromMap(o, system);
   if (config.camera.readout > 0) {
     spdlog::info("rolling shutter: rows read out over {:.0f} ms (camera.readout; 0 for a global shutter)",
                  1000 * config.camera.readout);
@@ -234,8 +255,7 @@ RunSummary RunSequence(const RunOptions& o) {
   FrameLoop loop = RunFrames(o, dataset, config, system, truth, s.out, wall);
   system.Finish();
   const double seconds = wall.ElapsedMs() * 1e-3;
-  const std::size_t saved_before = system.maps_saved();
-  if (!o.save_map.empty()) system.SaveMap(o.save_map);  // before the export filters the semantic clouds
+  const bool map_saved = SaveMapAtEnd(o, system);  // before the export filters the semantic clouds
 
   WriteFramesCsv(s.out / "frames.csv", loop.reports);
   if (has_detector) WriteDetections(s.out / "detections.txt", loop.reports);
@@ -255,15 +275,11 @@ RunSummary RunSequence(const RunOptions& o) {
   nlohmann::json stats = RunStats(o, config, dataset, loop, system, trajectory, truth, seconds, s);
   if (!semantic.is_null()) stats["semantic"] = semantic;
   if (!loop.failure.empty()) stats["error"] = loop.failure;
-  if (!o.load_map.empty() || !o.save_map.empty()) {
-    stats["map_file"] = {{"loaded", o.load_map}, {"localize", o.localize}, {"saved", o.save_map},
-                         {"saves", system.maps_saved()}};
-  }
   if (s.frames > 0 && s.tracked == 0) {
     spdlog::warn("no frame was tracked: the map never started, so trajectory.txt and the maps are empty");
   }
   WriteFileAtomically(s.out / "stats.json", stats.dump(2) + "\n");
-  if (!o.save_map.empty() && system.maps_saved() == saved_before && system.NumKeyFrames() > 0) {
+  if (!map_saved) {
     throw InputError("the map was not saved to " + o.save_map + " (see the error above); the other outputs are in " +
                      s.out.string());
   }

@@ -157,6 +157,26 @@ void CaptureSemantic(const SemanticState& s, KeyFrameSet& keyframes, MapData& d)
   d.semantic.next_object_id = s.next_object_id;
 }
 
+// After the map's lock: the keyframes' features and bags of words (one each per
+// keyframe of d, null for culled ones), and only the points captured kept in slots.
+void AddImmutableParts(const std::vector<std::shared_ptr<const Features>>& features,
+                       const std::vector<std::shared_ptr<const vocab::BowData>>& bows, MapData& d) {
+  std::set<std::uint64_t> points;
+  for (const MapPointData& p : d.points) points.insert(p.id);
+  for (std::size_t i = 0; i < d.keyframes.size(); ++i) {
+    KeyFrameData& k = d.keyframes[i];
+    for (std::uint64_t& id : k.point_ids) {
+      if (id != kNoId && !points.count(id)) id = kNoId;
+    }
+    if (features[i]) CaptureFeatures(*features[i], k);
+    if (bows[i]) {
+      k.has_bow = true;
+      k.bow_words = bows[i]->words;
+      k.bow_nodes = bows[i]->nodes;
+    }
+  }
+}
+
 }  // namespace
 
 MapData CaptureMap(const Map& map, const Settings& settings, std::uint64_t next_frame_id,
@@ -202,21 +222,7 @@ MapData CaptureMap(const Map& map, const Settings& settings, std::uint64_t next_
     d.next_keyframe_id = std::max(next_kf, map.next_keyframe_id());
     d.next_point_id = std::max(next_point, map.next_point_id());
   }
-  // Only the points captured keep their slot in the keyframes.
-  std::set<std::uint64_t> points;
-  for (const MapPointData& p : d.points) points.insert(p.id);
-  for (std::size_t i = 0; i < d.keyframes.size(); ++i) {
-    KeyFrameData& k = d.keyframes[i];
-    for (std::uint64_t& id : k.point_ids) {
-      if (id != kNoId && !points.count(id)) id = kNoId;
-    }
-    if (features[i]) CaptureFeatures(*features[i], k);
-    if (bows[i]) {
-      k.has_bow = true;
-      k.bow_words = bows[i]->words;
-      k.bow_nodes = bows[i]->nodes;
-    }
-  }
+  AddImmutableParts(features, bows, d);
   // Keyframes made after the request (copied later, on the semantic thread) count too.
   d.next_frame_id = next_frame_id;
   for (const KeyFrameData& k : d.keyframes) d.next_frame_id = std::max(d.next_frame_id, k.frame_id + 1);
