@@ -90,6 +90,18 @@ TEST(Config, ValidateListsEveryBadValueWithItsKey) {
   EXPECT_NE(e.find("dataset.prefetch = 0"), std::string::npos) << e;
 }
 
+// Values that pass "> 0" and still break the geometry (a crash, before this check).
+TEST(Config, FocalLengthAndDepthFactorMustBePlausibleAndFinite) {
+  Config c;
+  c.camera.fx = 1e-300;
+  c.camera.fy = INFINITY;
+  c.camera.depth_factor = std::nan("");
+  const std::string e = ErrorOf([&] { c.Validate("my.yaml"); });
+  EXPECT_NE(e.find("camera.fx = 1e-300: must be a focal length in pixels"), std::string::npos) << e;
+  EXPECT_NE(e.find("camera.fy = inf: must be a finite number > 0"), std::string::npos) << e;
+  EXPECT_NE(e.find("camera.depth_factor = nan: must be a finite number > 0"), std::string::npos) << e;
+}
+
 TEST(Config, PrintedYamlLoadsBackToTheSameValues) {
   Config a;
   a.camera.fx = 123.456789012;

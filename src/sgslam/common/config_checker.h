@@ -2,7 +2,9 @@
 // source file, each key and each value (COLMAP-style CHECK_OPTION lines).
 #pragma once
 
+#include <cmath>
 #include <sstream>
+#include <type_traits>
 #include <string>
 #include <vector>
 
@@ -22,6 +24,9 @@ class ConfigChecker {
   }
   template <class T>
   void Positive(const char* key, const T& value) {
+    if constexpr (std::is_floating_point_v<T>) {
+      if (!std::isfinite(value)) return Check(false, key, value, "must be a finite number > 0");
+    }
     Check(value > T(0), key, value, "must be > 0");
   }
   template <class T>
