@@ -15,6 +15,11 @@ TEST(Timestamp, ParsesDecimalSecondsExactly) {
 
 TEST(Timestamp, RejectsGarbage) {
   for (const char* bad : {"", "abc", "1.2.3", "1e9", "12x", ".", "-"}) EXPECT_FALSE(ParseTimestamp(bad)) << bad;
+  // Beyond the nanosecond type's range (9999999999.5 came out as -8446744074.2).
+  for (const char* bad : {"9999999999.5", "-9999999999.5", "4000000000.000000001", "99999999999"}) {
+    EXPECT_FALSE(ParseTimestamp(bad)) << bad;
+  }
+  EXPECT_EQ(ParseTimestamp("4000000000"), 4'000'000'000 * kNsPerSecond);
 }
 
 TEST(Timestamp, FormatsWithMicroseconds) {

@@ -32,6 +32,7 @@ std::optional<Timestamp> ParseTimestamp(std::string_view text) {
     }
   }
   if (integer_digits == 0 && fraction_digits == 0) return std::nullopt;
+  if (seconds > kMaxTimestampSeconds || (seconds == kMaxTimestampSeconds && nanos > 0)) return std::nullopt;
   for (int d = fraction_digits; d < 9; ++d) nanos *= 10;
   const Timestamp t = seconds * kNsPerSecond + nanos;
   return negative ? -t : t;

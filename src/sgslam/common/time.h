@@ -14,8 +14,12 @@ using Timestamp = std::int64_t;  // ns
 
 constexpr Timestamp kNsPerSecond = 1'000'000'000;
 
-// Parses "1305031229.528748" (seconds, optional fraction, optional sign).
-// Returns nullopt for anything else (the caller names file and line).
+// The largest |time| in seconds: the year 2096 since 1970, so that the difference
+// of two times fits in the nanosecond type too.
+constexpr std::int64_t kMaxTimestampSeconds = 4'000'000'000;
+
+// Parses "1305031229.528748" (seconds, optional fraction, optional sign, at most
+// kMaxTimestampSeconds). Returns nullopt for anything else (the caller names file and line).
 std::optional<Timestamp> ParseTimestamp(std::string_view text);
 
 // Seconds with 6 decimals, the precision of the TUM files ("1305031229.528748").

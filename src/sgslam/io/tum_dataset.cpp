@@ -30,7 +30,10 @@ std::vector<ListEntry> ReadList(const fs::path& file, const fs::path& dir) {
       throw ParseError(file.string(), line, "expected 'timestamp path', got " + std::to_string(tok.size()) + " fields");
     }
     const auto t = ParseTimestamp(tok[0]);
-    if (!t) throw ParseError(file.string(), line, "bad timestamp '" + std::string(tok[0]) + "'");
+    if (!t) {
+      throw ParseError(file.string(), line, "bad timestamp '" + std::string(tok[0]) + "' (seconds, at most " +
+                                                std::to_string(kMaxTimestampSeconds) + ")");
+    }
     entries.push_back({*t, dir / fs::path(std::string(tok[1])), line});
   });
   std::stable_sort(entries.begin(), entries.end(), [](const ListEntry& a, const ListEntry& b) { return a.t < b.t; });
