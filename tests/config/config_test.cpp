@@ -67,6 +67,10 @@ TEST(Config, TypeErrorsNameFileLineAndKey) {
   const std::string e = ErrorOf([&] { LoadConfigFile(tmp / "c.yaml", c); });
   EXPECT_NE(e.find("c.yaml:3"), std::string::npos) << e;
   EXPECT_NE(e.find("camera.width must be an integer"), std::string::npos) << e;
+  WriteText(tmp / "big.yaml", "orb:\n  features: 4294967346\n");  // wrapped round to 50 before
+  const std::string big = ErrorOf([&] { LoadConfigFile(tmp / "big.yaml", c); });
+  EXPECT_NE(big.find("big.yaml:2"), std::string::npos) << big;
+  EXPECT_NE(big.find("orb.features = 4294967346 is out of range"), std::string::npos) << big;
   WriteText(tmp / "d.yaml", "camera:\n  fy: abc\n");
   const std::string e2 = ErrorOf([&] { LoadConfigFile(tmp / "d.yaml", c); });
   EXPECT_NE(e2.find("camera.fy must be a number, got 'abc'"), std::string::npos) << e2;

@@ -5,10 +5,12 @@
 
 #include <algorithm>
 #include <charconv>
+#include <limits>
 #include <map>
 #include <set>
 #include <sstream>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "sgslam/common/error.h"
@@ -49,10 +51,17 @@ void ReadValue(const fs::path& file, const std::string& key, const YAML::Node& n
       std::size_t used = 0;
       const long long v = std::stoll(text, &used);
       if (used != text.size()) throw YAML::BadConversion(node.Mark());
+      // 4294967346 must not wrap round to 50.
+      if (std::cmp_less(v, std::numeric_limits<T>::min()) || std::cmp_greater(v, std::numeric_limits<T>::max())) {
+        throw ConfigError(Where(file, node) + ": " + key + " = " + text + " is out of range (at most " +
+                          std::to_string(std::numeric_limits<T>::max()) + ")");
+      }
       out = static_cast<T>(v);
     } else {
       out = node.as<T>();
     }
+  } catch (const ConfigError&) {
+    throw;
   } catch (const std::exception&) {
     const char* type = std::is_same_v<T, bool> ? "true or false"
                        : std::is_integral_v<T> ? "an integer"
