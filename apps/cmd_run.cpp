@@ -34,7 +34,7 @@ Action AddRunCommand(CLI::App& root) {
   return [o] {
     const RunSummary s = RunSequence(*o);
     std::printf("%s\n", FormatSummary(s).c_str());
-    return kExitOk;
+    return s.stopped_by ? 128 + s.stopped_by : kExitOk;  // the shell's status for a stop by that signal
   };
 }
 

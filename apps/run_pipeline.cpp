@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -31,29 +32,39 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::atomic<bool> g_interrupted{false};
+std::atomic<int> g_stop_signal{0};  // SIGINT, SIGTERM or SIGHUP: stop after this frame
 std::atomic<bool> g_octomap_requested{false};
-extern "C" void OnInterrupt(int) { g_interrupted = true; }
+extern "C" void OnStop(int signal) { g_stop_signal = signal; }
 extern "C" void OnOctoMapRequest(int) { g_octomap_requested = true; }
 
-// Restores the previous SIGINT and SIGUSR1 handlers on scope exit. SIGUSR1
-// (`kill -USR1 <pid>`) asks for the OctoMap built so far, in octomap.bt, and for
-// the map in the --save-map file.
+const char* SignalName(int signal) {
+  return signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : signal == SIGHUP ? "SIGHUP" : "a signal";
+}
+
+// Installs the run's handlers and restores the previous ones on scope exit.
+// SIGINT (Ctrl-C), SIGTERM (timeout, systemd, docker, roslaunch) and SIGHUP (a
+// closed terminal) stop the run after the frame it is on, and every output is still
+// written. SIGUSR1 (`kill -USR1 <pid>`) asks for the OctoMap built so far, in
+// octomap.bt, and for the map in the --save-map file.
 class InterruptGuard {
  public:
-  InterruptGuard()
-      : previous_(std::signal(SIGINT, OnInterrupt)), previous_usr1_(std::signal(SIGUSR1, OnOctoMapRequest)) {
-    g_interrupted = false;
+  InterruptGuard() {
+    for (const int s : kStopSignals) previous_.push_back(std::signal(s, OnStop));
+    previous_usr1_ = std::signal(SIGUSR1, OnOctoMapRequest);
+    g_stop_signal = 0;
     g_octomap_requested = false;
   }
   ~InterruptGuard() {
-    std::signal(SIGINT, previous_);
+    for (std::size_t i = 0; i < kStopSignals.size(); ++i) std::signal(kStopSignals[i], previous_[i]);
     std::signal(SIGUSR1, previous_usr1_);
   }
+  InterruptGuard(const InterruptGuard&) = delete;
+  InterruptGuard& operator=(const InterruptGuard&) = delete;
 
  private:
-  void (*previous_)(int);
-  void (*previous_usr1_)(int);
+  static constexpr std::array<int, 3> kStopSignals = {SIGINT, SIGTERM, SIGHUP};
+  std::vector<void (*)(int)> previous_;
+  void (*previous_usr1_)(int) = nullptr;
 };
 
 // The file's configuration (run_config.h) with the command line's options on top,
@@ -100,6 +111,7 @@ std::unique_ptr<Detector> LoadDetector(const Config& config, const fs::path& dat
 struct FrameLoop {
   std::vector<FrameReport> reports;
   std::string failure;  // the error that ended the loop early, after some frames
+  int stopped_by = 0;   // the signal that ended it early
 };
 
 // Streams the dataset through the system: the frames at their timestamps' pace
@@ -131,14 +143,18 @@ FrameLoop RunFrames(const RunOptions& o, const TumDataset& dataset, const Config
         }
         if (!o.save_map.empty()) system.SaveMap(o.save_map);
       }
-      if (g_interrupted) {
-        spdlog::warn("interrupted: writing the outputs of the {} frames processed", loop.reports.size());
+      if ((loop.stopped_by = g_stop_signal.load()) != 0) {
+        spdlog::warn("interrupted by {}: writing the outputs of the {} frames processed", SignalName(loop.stopped_by),
+                     loop.reports.size());
         break;
       }
     }
   } catch (const Error& e) {
     if (loop.reports.empty()) throw;
     loop.failure = e.what();  // save what was done, then report
+  } catch (const std::exception& e) {  // a library's own (OpenCV refusing an image, say)
+    if (loop.reports.empty()) throw;
+    loop.failure = std::string("unexpected failure: ") + e.what();
   }
   return loop;
 }
@@ -275,6 +291,10 @@ RunSummary RunSequence(const RunOptions& o) {
   nlohmann::json stats = RunStats(o, config, dataset, loop, system, trajectory, truth, seconds, s);
   if (!semantic.is_null()) stats["semantic"] = semantic;
   if (!loop.failure.empty()) stats["error"] = loop.failure;
+  stats["ended"] = !loop.failure.empty() ? "failed: " + loop.failure
+                   : loop.stopped_by    ? std::string("interrupted by ") + SignalName(loop.stopped_by)
+                                        : std::string("completed");
+  s.stopped_by = loop.stopped_by;
   if (s.frames > 0 && s.tracked == 0) {
     spdlog::warn("no frame was tracked: the map never started, so trajectory.txt and the maps are empty");
   }

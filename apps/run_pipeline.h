@@ -38,10 +38,11 @@ struct RunSummary {
   double median_frame_ms = 0, fps = 0, peak_rss_mib = 0;
   std::optional<double> ate_rmse;  // when the dataset has groundtruth.txt
   std::size_t ate_pairs = 0;
+  int stopped_by = 0;  // the signal that stopped the run early (SIGINT, SIGTERM, SIGHUP), else 0
 };
 
 // Throws sgslam::Error for bad input; outputs of the frames processed before a
-// failure (or Ctrl-C) are written before the error is passed on.
+// failure, or a stop signal, are written before the error is passed on.
 RunSummary RunSequence(const RunOptions& options);
 
 // The one-line summary printed at the end of a run.

@@ -50,6 +50,7 @@ TEST(RunCommand, GoodDatasetWritesConfigFramesAndStats) {
   const auto stats = nlohmann::json::parse(stats_file);
   EXPECT_EQ(stats["frames"], 4);
   EXPECT_EQ(stats["tracked"], 0);
+  EXPECT_EQ(stats["ended"], "completed");
   std::ifstream csv(tmp / "out" / "frames.csv");
   std::string line;
   int rows = 0;
@@ -145,6 +146,23 @@ TEST(RunCommand, MissingAndCorruptImages) {
   ExpectFailure(RunArgs(tmp), 1, {"image missing", rgb.string()});
   test::WriteText(rgb, "garbage");
   ExpectFailure(RunArgs(tmp), 1, {"cannot read image", rgb.string()});
+  // A PNG whose header claims 60000x60000 pixels: OpenCV refuses it with its own
+  // exception, reported as the file's error (and the frame before it is written).
+  std::string png = "\x89PNG\r\n\x1a\n";
+  const unsigned char ihdr[] = {0, 0, 0, 13, 'I', 'H', 'D', 'R', 0, 0, 0xEA, 0x60, 0, 0, 0xEA, 0x60, 8, 2, 0, 0, 0};
+  png.append(reinterpret_cast<const char*>(ihdr), sizeof ihdr);
+  std::uint32_t crc = 0xFFFFFFFFu;  // PNG's CRC-32 of the chunk type and data
+  for (std::size_t i = 4; i < sizeof ihdr; ++i) {
+    crc ^= ihdr[i];
+    for (int k = 0; k < 8; ++k) crc = (crc >> 1) ^ (0xEDB88320u & (0u - (crc & 1u)));
+  }
+  crc = ~crc;
+  for (int shift = 24; shift >= 0; shift -= 8) png += static_cast<char>((crc >> shift) & 0xFF);
+  test::WriteText(rgb, png);
+  ExpectFailure(RunArgs(tmp), 1, {"cannot read image", rgb.string(), "outputs of the 1 frames before it"});
+  std::ifstream stats_file(tmp / "out" / "stats.json");
+  EXPECT_NE(nlohmann::json::parse(stats_file)["ended"].get<std::string>().find("failed: cannot read image"),
+            std::string::npos);
 }
 
 TEST(RunCommand, DepthOfWrongTypeOrSize) {
@@ -155,6 +173,29 @@ TEST(RunCommand, DepthOfWrongTypeOrSize) {
   ExpectFailure(RunArgs(tmp), 1, {depth.string(), "8-bit 1-channel", "16-bit single-channel"});
   cv::imwrite(depth.string(), cv::Mat(20, 30, CV_16UC1, cv::Scalar(10000)));
   ExpectFailure(RunArgs(tmp), 1, {"RGB and depth sizes differ", depth.string(), "30x20"});
+}
+
+// SIGTERM (what timeout, systemd, docker and roslaunch send) stops the run after the
+// frame it is on; every output is written for the frames processed, stats.json says
+// how the run ended, and the exit status is the shell's for that signal (128 + 15).
+TEST(RunCommand, SigtermStopsTheRunAndKeepsItsOutputs) {
+  TempDir tmp;
+  test::WriteTinyDataset(tmp / "seq", 300);  // 10 s at the camera's pace
+  std::string command;
+  for (const std::string& a : RunArgs(tmp)) command += test::ShellQuote(a) + " ";
+  const auto r = test::RunShell(test::ShellQuote(SGSLAM_BINARY) + " " + command +
+                                "--realtime 2>&1 & p=$!; sleep 2; kill -TERM $p; wait $p; echo \"status $?\"");
+  EXPECT_NE(r.output.find("status 143"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("interrupted by SIGTERM"), std::string::npos) << r.output;
+  std::ifstream stats_file(tmp / "out" / "stats.json");
+  ASSERT_TRUE(stats_file) << r.output;
+  const auto stats = nlohmann::json::parse(stats_file);
+  EXPECT_EQ(stats["ended"], "interrupted by SIGTERM");
+  EXPECT_GT(stats["frames"].get<int>(), 10);
+  EXPECT_LT(stats["frames"].get<int>(), 300);
+  for (const char* f : {"trajectory.txt", "keyframes.txt", "map_points.ply", "frames.csv"}) {
+    EXPECT_TRUE(fs::exists(tmp / "out" / f)) << f;
+  }
 }
 
 TEST(RunCommand, WrongDepthScale) {

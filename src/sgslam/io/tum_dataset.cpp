@@ -107,7 +107,12 @@ RgbdImages TumDataset::Load(std::size_t i, const CameraConfig& camera) const {
   const auto read = [&](const fs::path& p, int flags) {
     std::error_code ec;
     if (!fs::is_regular_file(p, ec)) throw InputError("image missing: " + p.string() + " (listed in " + r.listed_at + ")");
-    cv::Mat m = cv::imread(p.string(), flags);
+    cv::Mat m;
+    try {
+      m = cv::imread(p.string(), flags);
+    } catch (const cv::Exception& e) {  // OpenCV refusing it (a header claiming 60000x60000 pixels, say)
+      throw InputError("cannot read image " + p.string() + ": " + e.err);
+    }
     if (m.empty()) throw InputError("cannot read image (corrupt or not an image): " + p.string());
     return m;
   };
