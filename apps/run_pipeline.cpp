@@ -222,6 +222,25 @@ void WriteConfigUsed(const RunConfig& rc, const fs::path& out) {
   WriteFileAtomically(out / "config_used.yaml", yaml);
 }
 
+// Runs each output's writer and keeps the names of those that failed (logged).
+struct FailedOutputs {
+  std::vector<std::string> names;
+  template <typename Fn>
+  void Try(const std::string& name, Fn write) {
+    try {
+      write();
+    } catch (const std::exception& e) {
+      spdlog::error("{} not written: {}", name, e.what());
+      names.push_back(name);
+    }
+  }
+  std::string Joined() const {
+    std::string out;
+    for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+    return out;
+  }
+};
+
 // --save-map checked and --load-map loaded, before the first frame.
 void StartFromMap(const RunOptions& o, SlamSystem& system) {
   if (!o.save_map.empty()) CheckWritable(o.save_map);
@@ -273,17 +292,20 @@ RunSummary RunSequence(const RunOptions& o) {
   const double seconds = wall.ElapsedMs() * 1e-3;
   const bool map_saved = SaveMapAtEnd(o, system);  // before the export filters the semantic clouds
 
-  WriteFramesCsv(s.out / "frames.csv", loop.reports);
-  if (has_detector) WriteDetections(s.out / "detections.txt", loop.reports);
+  // Each output on its own: one that cannot be written does not keep the others back.
+  FailedOutputs failed;
+  failed.Try("frames.csv", [&] { WriteFramesCsv(s.out / "frames.csv", loop.reports); });
+  if (has_detector) failed.Try("detections.txt", [&] { WriteDetections(s.out / "detections.txt", loop.reports); });
   const Trajectory trajectory = system.FrameTrajectory();
-  WriteTumTrajectory(s.out / "trajectory.txt", trajectory);
-  WriteTumTrajectory(s.out / "keyframes.txt", system.KeyFrameTrajectory());
-  WriteTumTrajectory(s.out / "trajectory_online.txt", system.OnlineTrajectory());
+  failed.Try("trajectory.txt", [&] { WriteTumTrajectory(s.out / "trajectory.txt", trajectory); });
+  failed.Try("keyframes.txt", [&] { WriteTumTrajectory(s.out / "keyframes.txt", system.KeyFrameTrajectory()); });
+  failed.Try("trajectory_online.txt",
+             [&] { WriteTumTrajectory(s.out / "trajectory_online.txt", system.OnlineTrajectory()); });
   const auto points = system.MapPointPositions();
-  WritePly(s.out / "map_points.ply", points);
+  failed.Try("map_points.ply", [&] { WritePly(s.out / "map_points.ply", points); });
   nlohmann::json semantic;
   if (SemanticMapper* sem = system.semantic()) {
-    semantic = WriteSemanticMap(s.out, system, trajectory, o.print_objects);
+    failed.Try("the semantic map", [&] { semantic = WriteSemanticMap(s.out, system, trajectory, o.print_objects); });
     if (nlohmann::json t = truth.SemanticJson(*sem, dataset, config.camera); !t.is_null()) semantic["truth"] = t;
   }
 
@@ -298,7 +320,11 @@ RunSummary RunSequence(const RunOptions& o) {
   if (s.frames > 0 && s.tracked == 0) {
     spdlog::warn("no frame was tracked: the map never started, so trajectory.txt and the maps are empty");
   }
-  WriteFileAtomically(s.out / "stats.json", stats.dump(2) + "\n");
+  if (!failed.names.empty()) stats["failed_outputs"] = failed.names;
+  failed.Try("stats.json", [&] { WriteFileAtomically(s.out / "stats.json", stats.dump(2) + "\n"); });
+  if (!failed.names.empty()) {
+    throw InputError("outputs not written: " + failed.Joined() + " (the others are in " + s.out.string() + ")");
+  }
   if (!map_saved) {
     throw InputError("the map was not saved to " + o.save_map + " (see the error above); the other outputs are in " +
                      s.out.string());

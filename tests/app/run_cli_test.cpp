@@ -198,6 +198,23 @@ TEST(RunCommand, SigtermStopsTheRunAndKeepsItsOutputs) {
   }
 }
 
+// One output that cannot be written (here trajectory.txt is a folder) does not keep
+// the others back, and no temporary file is left behind.
+TEST(RunCommand, AnOutputThatCannotBeWrittenLeavesTheOthers) {
+  TempDir tmp;
+  test::WriteTinyDataset(tmp / "seq", 4);
+  fs::create_directories(tmp / "out" / "trajectory.txt");
+  ExpectFailure(RunArgs(tmp), 1, {"outputs not written: trajectory.txt"});
+  for (const char* f : {"keyframes.txt", "map_points.ply", "frames.csv", "stats.json"}) {
+    EXPECT_TRUE(fs::is_regular_file(tmp / "out" / f)) << f;
+  }
+  for (const auto& entry : fs::directory_iterator(tmp / "out")) {
+    EXPECT_EQ(entry.path().string().find(".tmp"), std::string::npos) << entry.path();
+  }
+  std::ifstream stats_file(tmp / "out" / "stats.json");
+  EXPECT_EQ(nlohmann::json::parse(stats_file)["failed_outputs"][0], "trajectory.txt");
+}
+
 TEST(RunCommand, WrongDepthScale) {
   TempDir tmp;
   test::WriteTinyDataset(tmp / "seq", 2);
