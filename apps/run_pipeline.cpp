@@ -241,6 +241,36 @@ struct FailedOutputs {
   }
 };
 
+struct RunMaps {
+  Trajectory trajectory;
+  std::size_t map_points = 0;
+  nlohmann::json semantic;  // stats.json's semantic section; null without the semantic thread
+};
+
+// Every output but stats.json, each on its own: one that cannot be written does not
+// keep the others back.
+RunMaps WriteOutputs(const RunOptions& o, const Config& config, const TumDataset& dataset, FrameLoop& loop,
+                     SlamSystem& system, const TruthScorer& truth, bool has_detector, const fs::path& out,
+                     FailedOutputs& failed) {
+  failed.Try("frames.csv", [&] { WriteFramesCsv(out / "frames.csv", loop.reports); });
+  if (has_detector) failed.Try("detections.txt", [&] { WriteDetections(out / "detections.txt", loop.reports); });
+  RunMaps maps;
+  maps.trajectory = system.FrameTrajectory();
+  failed.Try("trajectory.txt", [&] { WriteTumTrajectory(out / "trajectory.txt", maps.trajectory); });
+  failed.Try("keyframes.txt", [&] { WriteTumTrajectory(out / "keyframes.txt", system.KeyFrameTrajectory()); });
+  failed.Try("trajectory_online.txt",
+             [&] { WriteTumTrajectory(out / "trajectory_online.txt", system.OnlineTrajectory()); });
+  const auto points = system.MapPointPositions();
+  maps.map_points = points.size();
+  failed.Try("map_points.ply", [&] { WritePly(out / "map_points.ply", points); });
+  if (SemanticMapper* sem = system.semantic()) {
+    failed.Try("the semantic map",
+               [&] { maps.semantic = WriteSemanticMap(out, system, maps.trajectory, o.print_objects); });
+    if (nlohmann::json t = truth.SemanticJson(*sem, dataset, config.camera); !t.is_null()) maps.semantic["truth"] = t;
+  }
+  return maps;
+}
+
 // --save-map checked and --load-map loaded, before the first frame.
 void StartFromMap(const RunOptions& o, SlamSystem& system) {
   if (!o.save_map.empty()) CheckWritable(o.save_map);
@@ -292,26 +322,11 @@ RunSummary RunSequence(const RunOptions& o) {
   const double seconds = wall.ElapsedMs() * 1e-3;
   const bool map_saved = SaveMapAtEnd(o, system);  // before the export filters the semantic clouds
 
-  // Each output on its own: one that cannot be written does not keep the others back.
   FailedOutputs failed;
-  failed.Try("frames.csv", [&] { WriteFramesCsv(s.out / "frames.csv", loop.reports); });
-  if (has_detector) failed.Try("detections.txt", [&] { WriteDetections(s.out / "detections.txt", loop.reports); });
-  const Trajectory trajectory = system.FrameTrajectory();
-  failed.Try("trajectory.txt", [&] { WriteTumTrajectory(s.out / "trajectory.txt", trajectory); });
-  failed.Try("keyframes.txt", [&] { WriteTumTrajectory(s.out / "keyframes.txt", system.KeyFrameTrajectory()); });
-  failed.Try("trajectory_online.txt",
-             [&] { WriteTumTrajectory(s.out / "trajectory_online.txt", system.OnlineTrajectory()); });
-  const auto points = system.MapPointPositions();
-  failed.Try("map_points.ply", [&] { WritePly(s.out / "map_points.ply", points); });
-  nlohmann::json semantic;
-  if (SemanticMapper* sem = system.semantic()) {
-    failed.Try("the semantic map", [&] { semantic = WriteSemanticMap(s.out, system, trajectory, o.print_objects); });
-    if (nlohmann::json t = truth.SemanticJson(*sem, dataset, config.camera); !t.is_null()) semantic["truth"] = t;
-  }
-
-  s.map_points = points.size();
-  nlohmann::json stats = RunStats(o, config, dataset, loop, system, trajectory, truth, seconds, s);
-  if (!semantic.is_null()) stats["semantic"] = semantic;
+  const RunMaps maps = WriteOutputs(o, config, dataset, loop, system, truth, has_detector, s.out, failed);
+  s.map_points = maps.map_points;
+  nlohmann::json stats = RunStats(o, config, dataset, loop, system, maps.trajectory, truth, seconds, s);
+  if (!maps.semantic.is_null()) stats["semantic"] = maps.semantic;
   if (!loop.failure.empty()) stats["error"] = loop.failure;
   stats["ended"] = !loop.failure.empty() ? "failed: " + loop.failure
                    : loop.stopped_by    ? std::string("interrupted by ") + SignalName(loop.stopped_by)
