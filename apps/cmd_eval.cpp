@@ -61,11 +61,12 @@ Action AddEvalCommand(CLI::App& root) {
   CLI::App* sub = root.add_subcommand("eval", "ATE and RPE of an estimated trajectory (TUM benchmark definitions)");
   sub->add_option("--gt", args->gt, "Ground-truth trajectory, TUM format")->required();
   sub->add_option("--est", args->est, "Estimated trajectory, TUM format")->required();
+  // Bounded so that the nanosecond conversion cannot overflow (1e10 s did, to a negative delta).
   sub->add_option("--max-diff", args->max_diff_s, "Max timestamp difference for association [s]")
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::Range(1e-6, 1e6))
       ->capture_default_str();
   sub->add_option("--delta", args->delta_s, "RPE pose-pair spacing [s]")
-      ->check(CLI::PositiveNumber)
+      ->check(CLI::Range(1e-6, 1e6))
       ->capture_default_str();
   sub->add_option("--plot", args->plot, "Write a top-view ATE plot to this PNG file");
   sub->add_option("--errors", args->errors, "Write the per-pose ATE error (timestamp, metres) to this text file");

@@ -155,6 +155,10 @@ TEST(EvalCommand, UnwritablePlotFolderIsNamed) {
 TEST(EvalCommand, BadOptionsAreUsageErrors) {
   EXPECT_EQ(RunSgslam({"eval", "--est", "x.txt"}).exit_code, 2);
   EXPECT_EQ(RunSgslam({"eval", "--gt", "a", "--est", "b", "--delta", "-1"}).exit_code, 2);
+  // Beyond what the nanosecond time holds: named as out of range, not "must be positive".
+  const auto huge = RunSgslam({"eval", "--gt", "a", "--est", "b", "--delta", "1e10"});
+  EXPECT_EQ(huge.exit_code, 2);
+  EXPECT_NE(huge.output.find("--delta: Value 1e10 not in range"), std::string::npos) << huge.output;
 }
 
 }  // namespace
