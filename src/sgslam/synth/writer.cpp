@@ -1,5 +1,6 @@
 #include "sgslam/synth/writer.h"
 
+#include <algorithm>
 #include <atomic>
 #include <charconv>
 #include <chrono>
@@ -69,16 +70,22 @@ FrameResult RenderAndSave(const SynthSequence& seq, int i, const fs::path& out) 
   return {f.T_w_c, GroundTruthDetections(f, seq.scene()), f.dynamic_fraction};
 }
 
-// Renders every frame on `threads` workers pulling frame numbers from a counter.
-std::vector<FrameResult> RenderAll(const SynthSequence& seq, const fs::path& out, int threads) {
-  std::vector<FrameResult> results(seq.size());
+// Renders every frame on `threads` workers pulling frame numbers from a counter, or
+// until *stop; returns how many frames from the first were rendered (all of them
+// without a stop).
+int RenderAll(const SynthSequence& seq, const fs::path& out, int threads, const std::atomic<bool>* stop,
+              std::vector<FrameResult>& results) {
+  results.assign(seq.size(), {});
+  std::vector<char> done(seq.size(), 0);
   std::atomic<int> next{0};
   std::exception_ptr failure;
   std::mutex failure_mutex;
   const auto work = [&] {
     for (int i = next++; i < seq.size(); i = next++) {
+      if (stop && *stop) break;
       try {
         results[i] = RenderAndSave(seq, i, out);
+        done[i] = 1;  // each worker writes its own frames' entries; read after the join
       } catch (...) {
         const std::lock_guard lock(failure_mutex);
         if (!failure) failure = std::current_exception();
@@ -90,19 +97,20 @@ std::vector<FrameResult> RenderAll(const SynthSequence& seq, const fs::path& out
   for (int w = 0; w < std::max(threads, 1); ++w) workers.emplace_back(work);
   for (std::thread& t : workers) t.join();
   if (failure) std::rethrow_exception(failure);
-  return results;
+  return static_cast<int>(std::find(done.begin(), done.end(), 0) - done.begin());
 }
 
-std::string ImageList(const SynthSequence& seq, const char* title, const char* folder, const std::string& source) {
+std::string ImageList(const SynthSequence& seq, int frames, const char* title, const char* folder,
+                      const std::string& source) {
   std::string text = std::string("# ") + title + "\n# file: '" + source + "'\n# timestamp filename\n";
-  for (int i = 0; i < seq.size(); ++i) {
+  for (int i = 0; i < frames; ++i) {
     const std::string t = FormatTimestamp(seq.timestamp(i));
     text += t + " " + folder + "/" + t + ".png\n";
   }
   return text;
 }
 
-std::string ObjectsJson(const SynthSequence& seq) {
+std::string ObjectsJson(const SynthSequence& seq, int frames) {
   nlohmann::json objects = nlohmann::json::array();
   for (const SceneObject& o : seq.objects()) {
     const ObjectInfo& info = o.info;
@@ -113,7 +121,7 @@ std::string ObjectsJson(const SynthSequence& seq) {
     objects.push_back(j);
   }
   const nlohmann::json root = {{"preset", seq.scene().preset}, {"seed", seq.scene().seed},
-                               {"frames", seq.size()}, {"objects", objects}};
+                               {"frames", frames}, {"objects", objects}};
   return root.dump(2) + "\n";
 }
 
@@ -129,15 +137,16 @@ std::string SourceCommand(const SynthSequence& seq) {
   return command;
 }
 
-void WriteLists(const SynthSequence& seq, const std::vector<FrameResult>& results, const fs::path& out) {
+// The list files of the first `frames` frames.
+void WriteLists(const SynthSequence& seq, const std::vector<FrameResult>& results, int frames, const fs::path& out) {
   const std::string source = SourceCommand(seq);
-  WriteFileAtomically(out / "rgb.txt", ImageList(seq, "color images", "rgb", source));
-  WriteFileAtomically(out / "depth.txt", ImageList(seq, "depth maps", "depth", source));
-  WriteFileAtomically(out / "mask.txt", ImageList(seq, "dynamic masks (255: moving object)", "mask", source));
+  WriteFileAtomically(out / "rgb.txt", ImageList(seq, frames, "color images", "rgb", source));
+  WriteFileAtomically(out / "depth.txt", ImageList(seq, frames, "depth maps", "depth", source));
+  WriteFileAtomically(out / "mask.txt", ImageList(seq, frames, "dynamic masks (255: moving object)", "mask", source));
   std::string associations;
   Trajectory groundtruth;
   std::vector<FrameDetections> detections;
-  for (int i = 0; i < seq.size(); ++i) {
+  for (int i = 0; i < frames; ++i) {
     const std::string t = FormatTimestamp(seq.timestamp(i));
     associations += t + " rgb/" + t + ".png " + t + " depth/" + t + ".png\n";
     groundtruth.push_back({seq.timestamp(i), results[i].T_w_c});
@@ -146,7 +155,7 @@ void WriteLists(const SynthSequence& seq, const std::vector<FrameResult>& result
   WriteFileAtomically(out / "associations.txt", associations);
   WriteTumTrajectory(out / "groundtruth.txt", groundtruth);
   WriteDetectionsFile(out / "detections.txt", detections);
-  WriteFileAtomically(out / "objects_gt.json", ObjectsJson(seq));
+  WriteFileAtomically(out / "objects_gt.json", ObjectsJson(seq, frames));
   WriteFileAtomically(out / "sgslam.yaml", CameraYaml(seq.readout()));
 }
 
@@ -188,17 +197,19 @@ SynthSummary GenerateSequence(const SynthOptions& options, const fs::path& out) 
     fs::create_directories(out / sub, ec);
     if (ec) throw InputError("cannot create folder " + (out / sub).string() + ": " + ec.message());
   }
-  const std::vector<FrameResult> results = RenderAll(seq, out, options.threads);
-  WriteLists(seq, results, out);
+  std::vector<FrameResult> results;
+  const int frames = RenderAll(seq, out, options.threads, options.stop, results);
+  WriteLists(seq, results, frames, out);
 
   SynthSummary summary;
-  summary.frames = seq.size();
+  summary.frames = frames;
+  summary.stopped = frames < seq.size();
   summary.preset = options.preset;
   summary.seed = options.seed;
   summary.readout = seq.readout();
   summary.depth_noise = seq.depth_noise();
   summary.out = out;
-  for (const FrameResult& r : results) summary.mean_dynamic_fraction += r.dynamic_fraction / seq.size();
+  for (int i = 0; i < frames; ++i) summary.mean_dynamic_fraction += results[i].dynamic_fraction / frames;
   summary.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return summary;
 }

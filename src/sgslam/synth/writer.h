@@ -6,6 +6,8 @@
 // Frames render on two worker threads; the files do not depend on the scheduling.
 #pragma once
 
+#include <atomic>
+
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -25,6 +27,9 @@ struct SynthOptions {
   int threads = 2;                 // render workers
   std::optional<double> readout;   // s, rolling-shutter readout (synth/sequence.h); 0: global shutter
   std::optional<DepthNoise> depth_noise;
+  // When set (a signal handler's flag), rendering stops: the frames rendered so far
+  // (the first ones, in order) are kept and the list files written for them.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 struct SynthSummary {
@@ -36,6 +41,7 @@ struct SynthSummary {
   double mean_dynamic_fraction = 0;  // mean share of mask pixels per frame
   std::filesystem::path out;
   double seconds = 0;  // wall time of rendering and writing
+  bool stopped = false;  // options.stop ended it early: `frames` of the sequence's were written
 };
 
 // Throws InputError for a bad preset, frames <= 0, a bad readout, a non-empty folder without force,
