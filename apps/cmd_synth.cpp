@@ -1,47 +1,15 @@
 // sgslam synth: write a synthetic RGB-D sequence with exact ground truth (poses,
 // depth, dynamic masks, detections, object boxes) in the TUM layout.
 #include <CLI/CLI.hpp>
-#include <array>
-#include <atomic>
-#include <csignal>
 #include <cstdio>
-#include <vector>
 #include <memory>
 
 #include "commands.h"
+#include "stop_signals.h"
 #include "sgslam/synth/presets.h"
 #include "sgslam/synth/writer.h"
 
 namespace sgslam::app {
-
-namespace {
-
-std::atomic<bool> g_stop{false};
-std::atomic<int> g_stop_signal{0};
-extern "C" void OnSynthStop(int signal) {
-  g_stop_signal = signal;
-  g_stop = true;
-}
-
-// Ctrl-C, SIGTERM or SIGHUP during synth: the frames rendered so far are kept and
-// listed (a usable, shorter sequence) instead of a folder without its lists.
-class StopGuard {
- public:
-  StopGuard() {
-    for (const int s : kSignals) previous_.push_back(std::signal(s, OnSynthStop));
-  }
-  ~StopGuard() {
-    for (std::size_t i = 0; i < kSignals.size(); ++i) std::signal(kSignals[i], previous_[i]);
-  }
-  StopGuard(const StopGuard&) = delete;
-  StopGuard& operator=(const StopGuard&) = delete;
-
- private:
-  static constexpr std::array<int, 3> kSignals = {SIGINT, SIGTERM, SIGHUP};
-  std::vector<void (*)(int)> previous_;
-};
-
-}  // namespace
 
 Action AddSynthCommand(CLI::App& root) {
   auto o = std::make_shared<synth::SynthOptions>();
@@ -66,13 +34,15 @@ Action AddSynthCommand(CLI::App& root) {
       ->check(CLI::IsMember({"none", "kinect"}));
   cmd->add_flag("--force", o->force, "Write into a non-empty folder, replacing only the files synth writes");
   return [o, out] {
-    const StopGuard guard;
-    o->stop = &g_stop;
+    // Stopped part-way, the frames rendered so far are kept and listed (a usable,
+    // shorter sequence) instead of a folder without its lists.
+    const StopSignals signals;
+    o->stop = &StopSignals::Flag();
     const synth::SynthSummary s = synth::GenerateSequence(*o, *out);
     if (s.stopped) {
-      std::printf("synth: stopped by signal %d: the first %d frames are written and listed in %s\n",
-                  g_stop_signal.load(), s.frames, s.out.string().c_str());
-      return 128 + g_stop_signal.load();
+      std::printf("synth: stopped by %s: the first %d frames are written and listed in %s\n",
+                  SignalName(StopSignals::Received()), s.frames, s.out.string().c_str());
+      return 128 + StopSignals::Received();
     }
     std::printf("synth: %d frames of preset '%s' (seed %u, readout %g s, depth noise %s), mean dynamic fraction %.3f, "
                 "written to %s in %.1f s\n",

@@ -2,7 +2,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include <array>
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -12,6 +11,7 @@
 
 #include "progress.h"
 #include "run_outputs.h"
+#include "stop_signals.h"
 #include "sgslam/common/error.h"
 #include "sgslam/common/stats.h"
 #include "sgslam/config/yaml_io.h"
@@ -32,39 +32,22 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::atomic<int> g_stop_signal{0};  // SIGINT, SIGTERM or SIGHUP: stop after this frame
 std::atomic<bool> g_octomap_requested{false};
-extern "C" void OnStop(int signal) { g_stop_signal = signal; }
 extern "C" void OnOctoMapRequest(int) { g_octomap_requested = true; }
 
-const char* SignalName(int signal) {
-  return signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : signal == SIGHUP ? "SIGHUP" : "a signal";
-}
-
-// Installs the run's handlers and restores the previous ones on scope exit.
-// SIGINT (Ctrl-C), SIGTERM (timeout, systemd, docker, roslaunch) and SIGHUP (a
-// closed terminal) stop the run after the frame it is on, and every output is still
-// written. SIGUSR1 (`kill -USR1 <pid>`) asks for the OctoMap built so far, in
-// octomap.bt, and for the map in the --save-map file.
+// The run's signals (stop_signals.h), and SIGUSR1 (`kill -USR1 <pid>`), which asks
+// for the OctoMap built so far, in octomap.bt, and for the map in the --save-map
+// file; the previous handler comes back on scope exit.
 class InterruptGuard {
  public:
-  InterruptGuard() {
-    for (const int s : kStopSignals) previous_.push_back(std::signal(s, OnStop));
-    previous_usr1_ = std::signal(SIGUSR1, OnOctoMapRequest);
-    g_stop_signal = 0;
-    g_octomap_requested = false;
-  }
-  ~InterruptGuard() {
-    for (std::size_t i = 0; i < kStopSignals.size(); ++i) std::signal(kStopSignals[i], previous_[i]);
-    std::signal(SIGUSR1, previous_usr1_);
-  }
+  InterruptGuard() : previous_usr1_(std::signal(SIGUSR1, OnOctoMapRequest)) { g_octomap_requested = false; }
+  ~InterruptGuard() { std::signal(SIGUSR1, previous_usr1_); }
   InterruptGuard(const InterruptGuard&) = delete;
   InterruptGuard& operator=(const InterruptGuard&) = delete;
 
  private:
-  static constexpr std::array<int, 3> kStopSignals = {SIGINT, SIGTERM, SIGHUP};
-  std::vector<void (*)(int)> previous_;
-  void (*previous_usr1_)(int) = nullptr;
+  StopSignals stop_;
+  void (*previous_usr1_)(int);
 };
 
 // The file's configuration (run_config.h) with the command line's options on top,
@@ -143,7 +126,7 @@ FrameLoop RunFrames(const RunOptions& o, const TumDataset& dataset, const Config
         }
         if (!o.save_map.empty()) system.SaveMap(o.save_map);
       }
-      if ((loop.stopped_by = g_stop_signal.load()) != 0) {
+      if ((loop.stopped_by = StopSignals::Received()) != 0) {
         spdlog::warn("interrupted by {}: writing the outputs of the {} frames processed", SignalName(loop.stopped_by),
                      loop.reports.size());
         break;

@@ -1,0 +1,34 @@
+// SIGINT (Ctrl-C), SIGTERM (timeout, systemd, docker, roslaunch) and SIGHUP (a
+// closed terminal) for the long commands (run, synth): while a StopSignals lives,
+// they only set a flag, so the command stops after the step it is on and keeps its
+// work; the previous handlers come back on scope exit.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <csignal>
+#include <vector>
+
+namespace sgslam::app {
+
+class StopSignals {
+ public:
+  StopSignals();
+  ~StopSignals();
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+
+  // The signal received since construction, or 0.
+  static int Received();
+  // Set when one was received (for code that polls a flag).
+  static const std::atomic<bool>& Flag();
+
+ private:
+  static constexpr std::array<int, 3> kSignals = {SIGINT, SIGTERM, SIGHUP};
+  std::vector<void (*)(int)> previous_;
+};
+
+// "SIGINT", "SIGTERM", "SIGHUP", or "a signal".
+const char* SignalName(int signal);
+
+}  // namespace sgslam::app
