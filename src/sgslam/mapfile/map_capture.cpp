@@ -238,17 +238,13 @@ void CheckCompatible(const Settings& saved, const Settings& run, const std::stri
   const auto fail = [&](const std::string& why) {
     throw InputError("map file " + what + " cannot be used with this run: " + why);
   };
-  CameraConfig a = saved.camera, b = run.camera;
-  std::vector<std::pair<std::string, double>> va;
-  std::vector<double> vb;
-  a.Visit([&](const char* name, auto& v, const char*) { va.emplace_back(name, static_cast<double>(v)); });
-  b.Visit([&](const char*, auto& v, const char*) { vb.push_back(static_cast<double>(v)); });
+  const auto va = CameraValues(saved.camera), vb = CameraValues(run.camera);
   for (std::size_t i = 0; i < va.size(); ++i) {
     const std::string& name = va[i].first;
     if (name == "fps" || name == "readout" || name == "close_depth") continue;  // how it is run, not the map
-    if (std::abs(va[i].second - vb[i]) > 1e-9 * std::max(1.0, std::abs(vb[i]))) {
+    if (std::abs(va[i].second - vb[i].second) > 1e-9 * std::max(1.0, std::abs(vb[i].second))) {
       fail("it was made with camera." + name + " " + std::to_string(va[i].second) + ", this run has " +
-           std::to_string(vb[i]));
+           std::to_string(vb[i].second));
     }
   }
   if (saved.orb_levels != run.orb_levels || saved.orb_scale_factor != run.orb_scale_factor) {

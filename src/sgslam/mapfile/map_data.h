@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "sgslam/camera/camera_config.h"
@@ -146,5 +147,8 @@ struct MapData {
 
 // The same content (every field but `created`).
 bool SameContent(const MapData& a, const MapData& b);
+
+// The camera's values by key, in CameraConfig::Visit's order (for comparing two).
+std::vector<std::pair<std::string, double>> CameraValues(CameraConfig camera);
 
 }  // namespace sgslam::mapfile

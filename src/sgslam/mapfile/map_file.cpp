@@ -417,14 +417,14 @@ std::string Describe(const MapData& d) {
   return o.str();
 }
 
+std::vector<std::pair<std::string, double>> CameraValues(CameraConfig camera) {
+  std::vector<std::pair<std::string, double>> out;
+  camera.Visit([&](const char* name, auto& v, const char*) { out.emplace_back(name, static_cast<double>(v)); });
+  return out;
+}
+
 bool SameContent(const MapData& a, const MapData& b) {
-  bool same_camera = true;
-  CameraConfig ca = a.settings.camera, cb = b.settings.camera;
-  std::vector<double> va, vb;
-  ca.Visit([&](const char*, auto& v, const char*) { va.push_back(static_cast<double>(v)); });
-  cb.Visit([&](const char*, auto& v, const char*) { vb.push_back(static_cast<double>(v)); });
-  same_camera = va == vb;
-  return same_camera && a.settings.orb_scale_factor == b.settings.orb_scale_factor &&
+  return CameraValues(a.settings.camera) == CameraValues(b.settings.camera) && a.settings.orb_scale_factor == b.settings.orb_scale_factor &&
          a.settings.orb_levels == b.settings.orb_levels &&
          a.settings.vocabulary_checksum == b.settings.vocabulary_checksum && a.next_keyframe_id == b.next_keyframe_id &&
          a.next_point_id == b.next_point_id && a.next_frame_id == b.next_frame_id && a.keyframes == b.keyframes &&
