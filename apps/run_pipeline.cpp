@@ -112,7 +112,11 @@ FrameLoop RunFrames(const RunOptions& o, const TumDataset& dataset, const Config
         if (loop.reports.empty()) t_first = frame->t;
         std::this_thread::sleep_until(start + std::chrono::nanoseconds(frame->t - t_first));
       }
-      if (loop.reports.empty()) CheckDepthScale(*frame, dataset.frames()[frame->index], config.camera, config.dataset);
+      if (loop.reports.empty()) {
+        if (const auto warning = CheckDepthScale(*frame, dataset.frames()[frame->index], config.camera, config.dataset)) {
+          spdlog::warn("{}", *warning);
+        }
+      }
       FrameReport& r = loop.reports.emplace_back(system.Process(*frame));
       truth.AddFrame(r);
       r.keypoints = {};  // keep the per-frame record small

@@ -7,6 +7,7 @@
 
 #include "sgslam/common/error.h"
 #include "sgslam/io/frame_stream.h"
+#include "sgslam/io/image_file.h"
 #include "sgslam/io/text_file.h"
 #include "support/test_support.h"
 #include "support/tiny_dataset.h"
@@ -93,14 +94,85 @@ TEST(TumDataset, ImageSizeMustMatchCamera) {
 
 TEST(TumDataset, WrongDepthScaleIsCaught) {
   TempDir tmp;
-  test::WriteTinyDataset(tmp.path(), 1);
+  test::WriteTinyDataset(tmp.path(), 1);  // raw depth 10000
   const TumDataset ds(tmp.path(), DatasetConfig{});
   CameraConfig cam = test::TinyCamera();
   const RgbdImages img = ds.Load(0, cam);
-  EXPECT_NO_THROW(CheckDepthScale(img, ds.frames()[0], cam, DatasetConfig{}));  // 2 m
+  EXPECT_EQ(CheckDepthScale(img, ds.frames()[0], cam, DatasetConfig{}), std::nullopt);  // 2 m
   cam.depth_factor = 50;  // 10000 / 50 = 200 m
   ExpectInputError([&] { CheckDepthScale(img, ds.frames()[0], cam, DatasetConfig{}); },
-                   {"median depth of 200 m", "depth_factor"});
+                   {"median depth of 200 m", "depth_factor", "max_median_depth"});
+  cam.depth_factor = 50000;  // 0.2 m: the depth 5x too near, as millimetres read with 5000 are
+  ExpectInputError([&] { CheckDepthScale(img, ds.frames()[0], cam, DatasetConfig{}); },
+                   {"median depth of 0.2 m", "with camera.depth_factor = 5000 it would be 2 m", "min_median_depth"});
+  cam.depth_factor = 25000;  // 0.4 m: possible, but unusual
+  const auto warning = CheckDepthScale(img, ds.frames()[0], cam, DatasetConfig{});
+  ASSERT_TRUE(warning);
+  EXPECT_NE(warning->find("unusually near"), std::string::npos) << *warning;
+  EXPECT_NE(warning->find("it would be 2 m"), std::string::npos) << *warning;
+  DatasetConfig near;
+  near.min_median_depth = 0.1;  // a user whose scene really is that near
+  cam.depth_factor = 50000;
+  EXPECT_TRUE(CheckDepthScale(img, ds.frames()[0], cam, near));
+}
+
+// Overwrites bytes [at, at + 4) with a big-endian number.
+void PutBigEndian(std::vector<std::uint8_t>& b, std::size_t at, std::uint32_t v) {
+  for (int i = 3; i >= 0; --i, v >>= 8) b[at + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(v & 0xFF);
+}
+
+void WriteBytes(const fs::path& p, const std::vector<std::uint8_t>& b) {
+  std::ofstream(p, std::ios::binary).write(reinterpret_cast<const char*>(b.data()), static_cast<std::streamsize>(b.size()));
+}
+
+TEST(ImageFile, HeadersGiveTheSizeAndTellACutFile) {
+  std::vector<std::uint8_t> png, jpg;
+  cv::imencode(".png", cv::Mat(48, 64, CV_16UC1, cv::Scalar(7)), png);
+  cv::imencode(".jpg", cv::Mat(48, 64, CV_8UC3, cv::Scalar(1, 2, 3)), jpg);
+  for (const auto* bytes : {&png, &jpg}) {
+    const auto h = ReadImageHeader(*bytes);
+    ASSERT_TRUE(h);
+    EXPECT_EQ(h->width, 64u);
+    EXPECT_EQ(h->height, 48u);
+    EXPECT_TRUE(h->complete) << h->format;
+    const std::span<const std::uint8_t> cut(bytes->data(), bytes->size() * 2 / 3);
+    ASSERT_TRUE(ReadImageHeader(cut));
+    EXPECT_FALSE(ReadImageHeader(cut)->complete) << h->format;
+  }
+  const std::vector<std::uint8_t> text = {'P', '3', '\n'};
+  EXPECT_FALSE(ReadImageHeader(text));
+  EXPECT_FALSE(ReadImageHeader(std::span<const std::uint8_t>(png.data(), 12)));
+}
+
+TEST(TumDataset, BadHeadersAndCutFilesAreRefusedBeforeDecoding) {
+  TempDir tmp;
+  const CameraConfig cam = test::TinyCamera();
+  test::WriteTinyDataset(tmp.path(), 3);
+  const TumDataset ds(tmp.path(), DatasetConfig{});
+  const auto rgb = Sorted(tmp / "rgb");
+  const auto depth = Sorted(tmp / "depth");
+  std::vector<std::uint8_t> png;
+  cv::imencode(".png", cv::Mat(48, 64, CV_8UC3, cv::Scalar(1, 2, 3)), png);
+  PutBigEndian(png, 16, 60000);  // IHDR width and height
+  PutBigEndian(png, 20, 60000);
+  WriteBytes(rgb[0], png);
+  WriteBytes(depth[0], png);
+  ExpectInputError([&] { ds.Load(0, cam); }, {rgb[0].filename().string(), "60000x60000", "camera.width"});
+
+  std::vector<std::uint8_t> jpg;
+  cv::imencode(".jpg", cv::Mat(48, 64, CV_8UC3, cv::Scalar(1, 2, 3)), jpg);
+  jpg.resize(jpg.size() / 2);
+  WriteBytes(rgb[1], jpg);  // a JPEG under a .png name: the bytes decide
+  ExpectInputError([&] { ds.Load(1, cam); }, {rgb[1].filename().string(), "cut short", "JPEG"});
+
+  std::vector<std::uint8_t> depth_png;
+  cv::imencode(".png", cv::Mat(48, 64, CV_16UC1, cv::Scalar(10000)), depth_png);
+  depth_png.resize(depth_png.size() - 20);
+  WriteBytes(depth[2], depth_png);
+  ExpectInputError([&] { ds.Load(2, cam); }, {depth[2].filename().string(), "cut short", "PNG"});
+
+  WriteBytes(rgb[2], std::vector<std::uint8_t>(64 * 48 * 8 + (1u << 20) + 1, 0));
+  ExpectInputError([&] { ds.Load(2, cam); }, {rgb[2].filename().string(), "bytes, more than"});
 }
 
 TEST(FrameStream, StreamsInOrderAndRethrowsAtTheBadFrame) {

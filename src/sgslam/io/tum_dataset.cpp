@@ -9,6 +9,7 @@
 #include "sgslam/common/error.h"
 #include "sgslam/common/stats.h"
 #include "sgslam/io/association.h"
+#include "sgslam/io/image_file.h"
 #include "sgslam/io/text_file.h"
 
 namespace sgslam {
@@ -44,6 +45,27 @@ std::string Describe(const cv::Mat& m) {
   const char* depth[] = {"8-bit", "8-bit signed", "16-bit", "16-bit signed", "32-bit int", "32-bit float",
                          "64-bit float", "16-bit float"};
   return std::string(depth[m.depth()]) + " " + std::to_string(m.channels()) + "-channel";
+}
+
+struct PixelSize {
+  std::uint64_t width = 0, height = 0;
+  bool operator==(const PixelSize&) const = default;
+  std::string str() const { return std::to_string(width) + "x" + std::to_string(height); }
+};
+
+PixelSize Size(const cv::Mat& m) { return {static_cast<std::uint64_t>(m.cols), static_cast<std::uint64_t>(m.rows)}; }
+
+// The RGB and depth images of a frame have the camera's size.
+void CheckSizes(const FrameRecord& r, PixelSize rgb, PixelSize depth, const CameraConfig& camera) {
+  if (rgb != depth) {
+    throw InputError("RGB and depth sizes differ: " + r.rgb.string() + " is " + rgb.str() + ", " + r.depth.string() +
+                     " is " + depth.str());
+  }
+  const PixelSize expected{static_cast<std::uint64_t>(camera.width), static_cast<std::uint64_t>(camera.height)};
+  if (rgb != expected) {
+    throw InputError("image " + r.rgb.string() + " is " + rgb.str() +
+                     " but the camera config says camera.width x camera.height = " + expected.str());
+  }
 }
 
 }  // namespace
@@ -104,23 +126,23 @@ std::optional<fs::path> TumDataset::groundtruth_path() const {
 
 RgbdImages TumDataset::Load(std::size_t i, const CameraConfig& camera) const {
   const FrameRecord& r = frames_.at(i);
-  const auto read = [&](const fs::path& p, int flags) {
+  // Even an uncompressed 16-bit RGBA file of the camera's size fits in this.
+  const std::uintmax_t max_bytes = 8ull * static_cast<std::uintmax_t>(camera.width) * camera.height + (1u << 20);
+  const auto read = [&](const fs::path& p) {
     std::error_code ec;
     if (!fs::is_regular_file(p, ec)) throw InputError("image missing: " + p.string() + " (listed in " + r.listed_at + ")");
-    cv::Mat m;
-    try {
-      m = cv::imread(p.string(), flags);
-    } catch (const cv::Exception& e) {  // OpenCV refusing it (a header claiming 60000x60000 pixels, say)
-      throw InputError("cannot read image " + p.string() + ": " + e.err);
-    }
-    if (m.empty()) throw InputError("cannot read image (corrupt or not an image): " + p.string());
-    return m;
+    return ReadFileBytes(p, max_bytes);
   };
+  const std::vector<std::uint8_t> rgb_bytes = read(r.rgb), depth_bytes = read(r.depth);
+  const auto rgb_header = ReadImageHeader(rgb_bytes), depth_header = ReadImageHeader(depth_bytes);
+  if (rgb_header && depth_header) {  // before decoding: a header claiming 60000x60000 pixels costs nothing
+    CheckSizes(r, {rgb_header->width, rgb_header->height}, {depth_header->width, depth_header->height}, camera);
+  }
   RgbdImages out;
   out.index = i;
   out.t = r.t_rgb;
-  out.bgr = read(r.rgb, cv::IMREAD_UNCHANGED);
-  out.depth = read(r.depth, cv::IMREAD_UNCHANGED);
+  out.bgr = DecodeImageFile(r.rgb, rgb_bytes, cv::IMREAD_UNCHANGED);
+  out.depth = DecodeImageFile(r.depth, depth_bytes, cv::IMREAD_UNCHANGED);
   if (out.depth.type() != CV_16UC1) {
     throw InputError("depth image " + r.depth.string() + " is " + Describe(out.depth) +
                      "; expected a 16-bit single-channel PNG");
@@ -130,21 +152,41 @@ RgbdImages TumDataset::Load(std::size_t i, const CameraConfig& camera) const {
   }
   if (out.bgr.channels() == 1) cv::cvtColor(out.bgr, out.bgr, cv::COLOR_GRAY2BGR);
   if (out.bgr.channels() == 4) cv::cvtColor(out.bgr, out.bgr, cv::COLOR_BGRA2BGR);
-  if (out.bgr.size() != out.depth.size()) {
-    throw InputError("RGB and depth sizes differ: " + r.rgb.string() + " is " + std::to_string(out.bgr.cols) + "x" +
-                     std::to_string(out.bgr.rows) + ", " + r.depth.string() + " is " +
-                     std::to_string(out.depth.cols) + "x" + std::to_string(out.depth.rows));
-  }
-  if (out.bgr.cols != camera.width || out.bgr.rows != camera.height) {
-    throw InputError("image " + r.rgb.string() + " is " + std::to_string(out.bgr.cols) + "x" +
-                     std::to_string(out.bgr.rows) + " but the camera config says camera.width x camera.height = " +
-                     std::to_string(camera.width) + "x" + std::to_string(camera.height));
-  }
+  CheckSizes(r, Size(out.bgr), Size(out.depth), camera);
   return out;
 }
 
-void CheckDepthScale(const RgbdImages& frame, const FrameRecord& record, const CameraConfig& camera,
-                     const DatasetConfig& dataset) {
+namespace {
+
+// Where RGB-D cameras see a room: Kinect-class sensors measure from 0.4-0.5 m, the
+// nearest RealSense models from 0.1-0.3 m, and few scenes have half their pixels
+// beyond 6 m. A median outside is the mark of a wrong depth factor (millimetres
+// read with TUM's 5000 make depth 5x too near), so the message names the common
+// factors that would put it inside.
+constexpr double kUsualMedianMin = 0.5, kUsualMedianMax = 6.0;
+
+std::string Metres(double m) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g m", m);
+  return buf;
+}
+
+std::string FactorHint(double median, double factor) {
+  std::string hint;
+  for (const double f : {1000.0, 5000.0}) {
+    const double m = median * factor / f;
+    if (f != factor && m >= kUsualMedianMin && m <= kUsualMedianMax) {
+      hint = "; with camera.depth_factor = " + std::to_string(static_cast<int>(f)) + (f == 1000 ? " (millimetres)" : "") +
+             " it would be " + Metres(m);
+    }
+  }
+  return hint;
+}
+
+}  // namespace
+
+std::optional<std::string> CheckDepthScale(const RgbdImages& frame, const FrameRecord& record,
+                                           const CameraConfig& camera, const DatasetConfig& dataset) {
   std::vector<double> depths;
   for (int v = 0; v < frame.depth.rows; v += 4) {
     const auto* row = frame.depth.ptr<std::uint16_t>(v);
@@ -152,15 +194,24 @@ void CheckDepthScale(const RgbdImages& frame, const FrameRecord& record, const C
       if (row[u] != 0) depths.push_back(row[u] / camera.depth_factor);
     }
   }
-  if (depths.size() < 100) return;  // nothing to judge by; tracking will report the lack of depth
+  if (depths.size() < 100) return std::nullopt;  // nothing to judge by; tracking will report the lack of depth
   const double median = Median(std::move(depths));
+  char factor[32];
+  std::snprintf(factor, sizeof factor, "%g", camera.depth_factor);
+  const std::string what = "depth image " + record.depth.string() + " has a median depth of " + Metres(median) +
+                           " with camera.depth_factor = " + factor;
+  const std::string hint = FactorHint(median, camera.depth_factor);
   if (median < dataset.min_median_depth || median > dataset.max_median_depth) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.3g", median);
-    throw InputError("depth image " + record.depth.string() + " has a median depth of " + buf +
-                     " m with camera.depth_factor = " + std::to_string(camera.depth_factor) +
-                     "; the depth scale is wrong for this data (TUM and Bonn use 5000, many sensors 1000)");
+    const bool near = median < dataset.min_median_depth;
+    throw InputError(what + hint + ". The depth scale is wrong for this data: set camera.depth_factor (TUM and Bonn " +
+                     "use 5000, millimetre depth 1000), or dataset." + (near ? "min_median_depth" : "max_median_depth") +
+                     " if the scene really is " + (near ? "this near" : "this far"));
   }
+  if (median < kUsualMedianMin || median > kUsualMedianMax) {
+    return what + ", unusually " + (median < kUsualMedianMin ? "near" : "far") + " for an RGB-D camera" + hint +
+           ". Check camera.depth_factor (TUM and Bonn use 5000, millimetre depth 1000)";
+  }
+  return std::nullopt;
 }
 
 }  // namespace sgslam

@@ -58,8 +58,10 @@ class TumDataset {
 };
 
 // Checks the depth scale on one frame: a median valid depth outside the configured
-// range means depth_factor is wrong for this data. Throws InputError naming both.
-void CheckDepthScale(const RgbdImages& frame, const FrameRecord& record, const CameraConfig& camera,
+// range (dataset.min/max_median_depth) means depth_factor is wrong for this data:
+// throws InputError naming both and the factor that would fit. A median outside
+// 0.5-6 m, where RGB-D cameras see rooms, returns a warning.
+std::optional<std::string> CheckDepthScale(const RgbdImages& frame, const FrameRecord& record, const CameraConfig& camera,
                      const DatasetConfig& dataset);
 
 }  // namespace sgslam

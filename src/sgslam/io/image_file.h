@@ -1,0 +1,34 @@
+// Reading one image file of a frame so that a bad file costs neither memory nor a
+// silently wrong frame: the size in a PNG or JPEG header is known before anything
+// is decoded, and a file cut short is refused (libjpeg only warns and fills grey).
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <opencv2/core.hpp>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace sgslam {
+
+struct ImageHeader {
+  const char* format = "";  // "PNG" or "JPEG"
+  std::uint32_t width = 0, height = 0;
+  bool complete = false;  // the file ends with the format's end marker (PNG IEND, JPEG EOI)
+};
+
+// The header of a PNG or JPEG file held in memory; nullopt for another format or a
+// header too short to hold the size.
+std::optional<ImageHeader> ReadImageHeader(std::span<const std::uint8_t> bytes);
+
+// The whole file; throws InputError naming it when it cannot be read or is larger
+// than max_bytes.
+std::vector<std::uint8_t> ReadFileBytes(const std::filesystem::path& path, std::uintmax_t max_bytes);
+
+// Decodes an image file held in memory (cv::IMREAD_* flags). A PNG or JPEG cut
+// short is refused; every failure is an InputError naming the file.
+cv::Mat DecodeImageFile(const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes, int flags);
+
+}  // namespace sgslam
