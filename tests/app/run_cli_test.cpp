@@ -146,8 +146,8 @@ TEST(RunCommand, MissingAndCorruptImages) {
   ExpectFailure(RunArgs(tmp), 1, {"image missing", rgb.string()});
   test::WriteText(rgb, "garbage");
   ExpectFailure(RunArgs(tmp), 1, {"cannot read image", rgb.string()});
-  // A PNG whose header claims 60000x60000 pixels: OpenCV refuses it with its own
-  // exception, reported as the file's error (and the frame before it is written).
+  // A PNG whose header claims 60000x60000 pixels: refused from its header, before
+  // anything is decoded (and the frame before it is written).
   std::string png = "\x89PNG\r\n\x1a\n";
   const unsigned char ihdr[] = {0, 0, 0, 13, 'I', 'H', 'D', 'R', 0, 0, 0xEA, 0x60, 0, 0, 0xEA, 0x60, 8, 2, 0, 0, 0};
   png.append(reinterpret_cast<const char*>(ihdr), sizeof ihdr);
@@ -159,9 +159,9 @@ TEST(RunCommand, MissingAndCorruptImages) {
   crc = ~crc;
   for (int shift = 24; shift >= 0; shift -= 8) png += static_cast<char>((crc >> shift) & 0xFF);
   test::WriteText(rgb, png);
-  ExpectFailure(RunArgs(tmp), 1, {"cannot read image", rgb.string(), "outputs of the 1 frames before it"});
+  ExpectFailure(RunArgs(tmp), 1, {rgb.string() + " is 60000x60000", "outputs of the 1 frames before it"});
   std::ifstream stats_file(tmp / "out" / "stats.json");
-  EXPECT_NE(nlohmann::json::parse(stats_file)["ended"].get<std::string>().find("failed: cannot read image"),
+  EXPECT_NE(nlohmann::json::parse(stats_file)["ended"].get<std::string>().find("failed: RGB and depth sizes differ"),
             std::string::npos);
 }
 
