@@ -3,6 +3,7 @@
 // same trajectory bit for bit on every run.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -31,6 +32,7 @@ struct Outcome {
   std::size_t keyframes = 0;
   std::size_t keyframes_made = 0;    // frames whose report says a keyframe was made
   std::size_t keyframes_mapped = 0;  // keyframes local mapping processed
+  int last_map_keyframes = 0;        // the map's keyframes as the last frame's report gives them
   std::optional<MappingStats> final_ba;
 };
 
@@ -83,6 +85,7 @@ Outcome RunOn(const fs::path& dir, bool sequential, std::pair<std::size_t, std::
     ++out.frames;
     out.tracked += r.state == TrackState::kOk;
     out.keyframes_made += r.keyframe ? 1 : 0;
+    out.last_map_keyframes = r.map_keyframes;
   }
   system.Finish();
   out.keyframes_mapped = system.mapping_stats().size();
@@ -127,6 +130,7 @@ TEST_F(SlamSynthetic, StaticSceneSequentialIsAccurateAndDeterministic) {
   const auto ate = eval::ComputeAte(ReadTumTrajectory(seq / "groundtruth.txt"), a.trajectory, FromSeconds(0.02));
   EXPECT_LT(ate.stats.rmse, 0.01);
   EXPECT_EQ(ate.stats.count, a.frames);
+  EXPECT_EQ(static_cast<std::size_t>(a.last_map_keyframes), a.keyframes);  // the size frames.csv reports
 
   const Outcome b = RunOn(seq, /*sequential=*/true);
   ASSERT_EQ(a.trajectory.size(), b.trajectory.size());
@@ -134,6 +138,36 @@ TEST_F(SlamSynthetic, StaticSceneSequentialIsAccurateAndDeterministic) {
     EXPECT_EQ(a.trajectory[i].T_w_c.translation(), b.trajectory[i].T_w_c.translation()) << i;
     EXPECT_EQ(a.trajectory[i].T_w_c.quaternion().coeffs(), b.trajectory[i].T_w_c.quaternion().coeffs()) << i;
   }
+}
+
+// The names of this process's threads that are sgslam's own ("sg-...").
+std::vector<std::string> SgslamThreads() {
+  std::vector<std::string> names;
+  for (const auto& task : fs::directory_iterator("/proc/self/task")) {
+    std::ifstream comm(task.path() / "comm");
+    std::string name;
+    if (std::getline(comm, name) && name.rfind("sg-", 0) == 0) names.push_back(name);
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// Every thread of a parallel run is named, and none outlives the system.
+TEST_F(SlamSynthetic, ThreadsAreNamedAndNoneOutlivesTheSystem) {
+  const fs::path seq = dir_->path() / "static";
+  RunConfig rc = ResolveRunConfig(std::nullopt, seq);
+  const TumDataset dataset(seq, rc.config.dataset);
+  {
+    SlamSystem system(rc.config, /*sequential=*/false);
+    FrameStream stream(dataset, rc.config.camera, 2, 10);
+    while (auto frame = stream.Next()) system.Process(*frame);
+    const auto running = SgslamThreads();
+    for (const char* role : {"sg-mapping", "sg-semantic"}) {
+      EXPECT_NE(std::find(running.begin(), running.end(), role), running.end()) << role << " not in " << ::testing::PrintToString(running);
+    }
+    system.Finish();
+  }
+  EXPECT_EQ(SgslamThreads(), std::vector<std::string>{});
 }
 
 TEST_F(SlamSynthetic, StaticSceneParallelTracksEveryFrame) {

@@ -1,5 +1,7 @@
 #include "sgslam/common/stats.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -24,11 +26,14 @@ double Percentile(std::vector<double> values, double q) {
   return values[static_cast<std::size_t>(k)];
 }
 
-double PeakRssMiB() {
+namespace {
+
+// A "Key: value kB" field of /proc/self/status in MiB, 0 when unknown.
+double StatusMiB(const char* field) {
   std::ifstream status("/proc/self/status");
   std::string key;
   while (status >> key) {
-    if (key == "VmHWM:") {
+    if (key == field) {
       double kib = 0;
       status >> kib;
       return kib / 1024.0;
@@ -36,6 +41,17 @@ double PeakRssMiB() {
     status.ignore(4096, '\n');
   }
   return 0.0;
+}
+
+}  // namespace
+
+double PeakRssMiB() { return StatusMiB("VmHWM:"); }
+
+double RssMiB() {
+  std::ifstream statm("/proc/self/statm");  // pages: total, resident, ...
+  double total = 0, resident = 0;
+  if (!(statm >> total >> resident)) return 0.0;
+  return resident * static_cast<double>(sysconf(_SC_PAGESIZE)) / (1024.0 * 1024.0);
 }
 
 }  // namespace sgslam

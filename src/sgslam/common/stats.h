@@ -27,4 +27,7 @@ double Percentile(std::vector<double> values, double q);
 // Peak resident set size of this process in MiB (VmHWM), 0 when unknown.
 double PeakRssMiB();
 
+// Resident set size of this process now in MiB (VmRSS), 0 when unknown.
+double RssMiB();
+
 }  // namespace sgslam

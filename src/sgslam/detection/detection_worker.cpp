@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "sgslam/common/stats.h"
+#include "sgslam/common/thread_name.h"
 
 namespace sgslam {
 
@@ -24,7 +25,12 @@ DetectionWorker::DetectionWorker(std::unique_ptr<Detector> detector, Options opt
       description_(detector_ ? detector_->Describe() : ""),
       pending_(options_.max_pending, Overflow::kDropOldest) {
   if (!detector_) throw std::invalid_argument("DetectionWorker needs a detector");
-  if (!options_.sequential) thread_ = std::thread([this] { Run(); });
+  if (!options_.sequential) {
+    thread_ = std::thread([this] {
+      NameThisThread("sg-detector");
+      Run();
+    });
+  }
 }
 
 DetectionWorker::~DetectionWorker() {

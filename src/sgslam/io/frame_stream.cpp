@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "sgslam/common/thread_name.h"
+
 namespace sgslam {
 
 FrameStream::FrameStream(const TumDataset& dataset, const CameraConfig& camera, std::size_t prefetch,
@@ -10,7 +12,10 @@ FrameStream::FrameStream(const TumDataset& dataset, const CameraConfig& camera, 
       camera_(camera),
       count_(max_frames == 0 ? dataset.size() : std::min(max_frames, dataset.size())),
       queue_(prefetch) {
-  reader_ = std::thread([this] { ReadLoop(); });
+  reader_ = std::thread([this] {
+    NameThisThread("sg-reader");
+    ReadLoop();
+  });
 }
 
 FrameStream::~FrameStream() {

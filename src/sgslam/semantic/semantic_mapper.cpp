@@ -13,6 +13,7 @@
 
 #include "sgslam/camera/camera.h"
 #include "sgslam/common/stats.h"
+#include "sgslam/common/thread_name.h"
 #include "sgslam/map/keyframe.h"
 #include "sgslam/map/map.h"
 #include "sgslam/semantic/dynamic_mask.h"
@@ -86,7 +87,12 @@ SemanticMapper::SemanticMapper(const SemanticConfig& config, std::shared_ptr<con
       octomap_(config),
       objects_(config, [cam = camera_](const Eigen::Vector3d& p_c) { return cam->Distort(cam->Project(p_c)); },
                cv::Size(camera_->width(), camera_->height())) {
-  if (!sequential_) thread_ = std::thread([this] { Loop(); });
+  if (!sequential_) {
+    thread_ = std::thread([this] {
+      NameThisThread("sg-semantic");
+      Loop();
+    });
+  }
 }
 
 SemanticMapper::~SemanticMapper() { Finish(); }

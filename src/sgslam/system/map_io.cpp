@@ -6,6 +6,7 @@
 
 #include "sgslam/common/error.h"
 #include "sgslam/common/stats.h"
+#include "sgslam/common/thread_name.h"
 #include "sgslam/mapfile/map_capture.h"
 #include "sgslam/mapfile/map_file.h"
 #include "sgslam/system/slam_system.h"
@@ -103,7 +104,10 @@ void SlamSystem::SaveCaptured(const std::filesystem::path& path, std::optional<S
   if (saver_.joinable()) saver_.join();  // the previous save's thread, already done (saving_ was false)
   const auto job = std::make_shared<decltype(save)>(std::move(save));  // still there if no thread starts
   try {
-    saver_ = std::thread([job] { (*job)(); });
+    saver_ = std::thread([job] {
+      NameThisThread("sg-map-saver");
+      (*job)();
+    });
   } catch (const std::system_error& e) {
     spdlog::warn("no thread for the map save ({}): writing it here", e.what());
     (*job)();

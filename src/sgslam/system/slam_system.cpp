@@ -11,6 +11,7 @@
 #include <spdlog/spdlog.h>
 
 #include "sgslam/common/stats.h"
+#include "sgslam/common/thread_name.h"
 #include "sgslam/detection/darknet_model.h"
 #include "sgslam/detection/dnn_detector.h"
 #include "sgslam/loop/vocabulary_file.h"
@@ -78,8 +79,16 @@ SlamSystem::SlamSystem(const Config& config, bool sequential, std::unique_ptr<De
   }
   if (places_) loop_ = std::make_unique<LoopCloser>(map_, places_);
   if (!sequential_) {
-    mapping_thread_ = std::thread([this] { MappingLoop(); });
-    if (loop_) loop_thread_ = std::thread([this] { LoopClosingLoop(); });
+    mapping_thread_ = std::thread([this] {
+      NameThisThread("sg-mapping");
+      MappingLoop();
+    });
+    if (loop_) {
+      loop_thread_ = std::thread([this] {
+        NameThisThread("sg-loop");
+        LoopClosingLoop();
+      });
+    }
   }
 }
 
@@ -142,7 +151,10 @@ void SlamSystem::StartGlobalBa() {
   if (sequential_) {
     RunGlobalBa();
   } else {
-    gba_thread_ = std::thread([this] { RunGlobalBa(); });
+    gba_thread_ = std::thread([this] {
+      NameThisThread("sg-global-ba");
+      RunGlobalBa();
+    });
   }
 }
 
@@ -240,6 +252,12 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
     const bool tracked = result.state == TrackState::kOk;
     semantic_->AddFrame(frame.id, frame.T_c_w, tracked ? frame.features->detections : kNone, images.depth);
   }
+  {
+    std::shared_lock lock(map_.mutex());
+    report.map_keyframes = static_cast<int>(map_.keyframes().size());
+    report.map_points = static_cast<int>(map_.map_points().size());
+  }
+  report.rss_mib = RssMiB();
   report.total_ms = total.ElapsedMs();
   if (snapshots_) PublishFrame(frame, images, report);
   return report;

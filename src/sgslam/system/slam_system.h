@@ -43,6 +43,8 @@ struct FrameReport {
   int features = 0, matches = 0, inliers = 0;
   int trusted = 0;  // inliers whose map points are trusted to set the pose (tracking/trusted_pose.h)
   bool keyframe = false;
+  int map_keyframes = 0, map_points = 0;  // the map's size after this frame
+  double rss_mib = 0;                     // the process's resident memory after this frame
   // Dynamic feature rejection (zeros in mode none): keypoints kept, rejected by
   // the epipolar test, by the boxes alone, by the RGB-D check.
   int kept = 0, rejected_geometry = 0, rejected_semantics = 0, rejected_depth = 0;
