@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Installs the Debian packages sgslam needs (only the missing ones; apt-get update
 # only when something must be installed) and configures and builds a Release build.
-#   scripts/setup.sh [--no-build] [--asan|--tsan] [--target T]
-# Build folder: build, build-asan or build-tsan. --target builds one CMake target
-# (the demo builds only `sgslam`); without it every target, tests included.
+#   scripts/setup.sh [--no-build] [--asan|--tsan] [--target T]...
+# Build folder: build, build-asan or build-tsan. --target builds a CMake target
+# (repeat it for more; the demo builds only `sgslam`); without it every target,
+# tests included.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -26,7 +27,7 @@ while [ $# -gt 0 ]; do
     --no-build) build=0 ;;
     --target)
       [ $# -gt 0 ] || { echo "setup.sh: --target needs a target name" >&2; exit 2; }
-      targets=(--target "$1"); shift ;;
+      targets+=(--target "$1"); shift ;;
     --asan) build_dir=build-asan; cmake_flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DSGSLAM_ASAN=ON -DSGSLAM_BUILD_BENCH=OFF) ;;
     --tsan) build_dir=build-tsan; cmake_flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DSGSLAM_TSAN=ON -DSGSLAM_BUILD_BENCH=OFF) ;;
     *) echo "setup.sh: unknown option '$arg' (use --no-build, --asan, --tsan or --target T)" >&2; exit 2 ;;
@@ -55,5 +56,5 @@ if [ "$build" = 1 ]; then
   jobs=$(nproc 2>/dev/null || echo 2)
   cmake -S . -B "$build_dir" "${cmake_flags[@]}" >/dev/null
   cmake --build "$build_dir" -j "$jobs" "${targets[@]}"
-  echo "setup: built $build_dir${targets[1]:+ (target ${targets[1]})}"
+  echo "setup: built $build_dir${targets[1]:+ (${targets[*]})}"
 fi

@@ -1,0 +1,49 @@
+#!/usr/bin/env bash
+# The sanitizer jobs of CI (.ci/run), also for use by hand:
+#   scripts/sanitize.sh [--asan] [--tsan]      (both when neither is given)
+# --asan: AddressSanitizer + UBSan build in build-asan/; every test except the three
+#   long end-to-end suites (loop closing, relocalisation, snapshots: minutes each
+#   under ASan), then one short end-to-end run: a synthetic `walkers` sequence
+#   through `sgslam run` in parallel mode with the real detector and --save-map.
+# --tsan: ThreadSanitizer build of the program and the threaded end-to-end test in
+#   build-tsan/; that test's parallel run and the same end-to-end run.
+# A report from either sanitizer fails the job (exit status 1).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+asan=0 tsan=0
+for arg in "$@"; do
+  case "$arg" in
+    --asan) asan=1 ;;
+    --tsan) tsan=1 ;;
+    *) echo "sanitize.sh: unknown option '$arg' (use --asan, --tsan)" >&2; exit 2 ;;
+  esac
+done
+[ $asan = 1 ] || [ $tsan = 1 ] || { asan=1; tsan=1; }
+
+work=$(mktemp -d "${TMPDIR:-/tmp}/sgslam-sanitize.XXXXXX")
+trap 'rm -rf "$work"' EXIT
+jobs=$(nproc 2>/dev/null || echo 2)
+
+# Renders a short walkers sequence with $1/sgslam and runs it in parallel mode.
+end_to_end() {
+  local bin=$1/sgslam name=$2
+  "$bin" -q synth --preset walkers --frames 60 --out "$work/$name-seq"
+  "$bin" -q run --dataset "$work/$name-seq" --out "$work/$name-out" --save-map "$work/$name.map"
+  "$bin" -q map info "$work/$name.map" >/dev/null
+  echo "sanitize: $name end-to-end run clean"
+}
+
+if [ $asan = 1 ]; then
+  scripts/setup.sh --asan
+  export ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+  ctest --test-dir build-asan --output-on-failure -j "$jobs" -E '^(LoopClosing|Relocalisation|Snapshots)\.'
+  end_to_end build-asan asan
+fi
+
+if [ $tsan = 1 ]; then
+  scripts/setup.sh --tsan --target sgslam --target test_system_slam_synthetic
+  export TSAN_OPTIONS="suppressions=$PWD/tests/sanitizers/tsan.supp halt_on_error=1 second_deadlock_stack=1"
+  build-tsan/tests/test_system_slam_synthetic --gtest_filter='*Parallel*'
+  end_to_end build-tsan tsan
+fi
