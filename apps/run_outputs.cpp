@@ -117,7 +117,9 @@ nlohmann::json LocalMappingJson(const SlamSystem& system) {
     for (const auto& m : mapping) v.push_back(static_cast<double>(m.*field));
     return Median(std::move(v));
   };
+  const auto full = system.map_full_at();
   return {{"keyframes_processed", mapping.size()},
+          {"map_full_at_frame", full ? nlohmann::json(*full) : nlohmann::json(nullptr)},
           {"median_ms", median(&MappingStats::ms)},
           {"median_insert_ms", median(&MappingStats::insert_ms)},
           {"median_triangulate_ms", median(&MappingStats::triangulate_ms)},

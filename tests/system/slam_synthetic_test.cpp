@@ -179,6 +179,22 @@ TEST_F(SlamSynthetic, StaticSceneParallelTracksEveryFrame) {
   EXPECT_LT(ate.stats.rmse, 0.015);
 }
 
+// mapping.max_keyframes: the map stops growing at the bound, and the frames after
+// are tracked in it (localisation), so the whole run stays tracked and accurate.
+TEST_F(SlamSynthetic, ABoundedMapStopsGrowingAndFramesAreTrackedInIt) {
+  const fs::path seq = dir_->path() / "static";
+  const Outcome free = RunOn(seq, /*sequential=*/true);
+  const int bound = static_cast<int>(free.keyframes) / 2;
+  ASSERT_GE(bound, 3);
+  const Outcome bounded =
+      RunOn(seq, /*sequential=*/true, {0, 0}, 0, nullptr, [&](Config& c) { c.mapping.max_keyframes = bound; });
+  EXPECT_LE(bounded.keyframes, static_cast<std::size_t>(bound));
+  EXPECT_TRUE(bounded.map_problems.empty()) << bounded.map_problems.front();
+  EXPECT_EQ(bounded.tracked, bounded.frames);
+  const auto ate = eval::ComputeAte(ReadTumTrajectory(seq / "groundtruth.txt"), bounded.trajectory, FromSeconds(0.02));
+  EXPECT_LT(ate.stats.rmse, 0.015);
+}
+
 // mapping.final_ba_iterations (on by default): one bundle adjustment of the whole
 // map when the sequence ends. Every keyframe takes part, the map stays consistent, the
 // trajectory (exported relative to the keyframes) follows and is no worse, and

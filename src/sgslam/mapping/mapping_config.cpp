@@ -12,6 +12,7 @@ void MappingConfig::Validate(ConfigChecker& c) const {
   c.InRange("queue_size", queue_size, 1, 100);
   c.InRange("busy_frames", busy_frames, 0, 1000);
   c.InRange("final_ba_iterations", final_ba_iterations, 0, 1000);
+  c.InRange("max_keyframes", max_keyframes, 0, 10000000);
 }
 
 }  // namespace sgslam

@@ -25,6 +25,10 @@ struct MappingConfig {
   // runs after a loop closure), iterations per stage; 0: off. Only trajectory.txt
   // and the maps see it; trajectory_online.txt is what tracking output at the time.
   int final_ba_iterations = 10;
+  // A bound on the map's size for long runs in one place (a robot's patrol): once
+  // the map holds this many keyframes it stops growing and later frames are tracked
+  // in it, as with --localize. 0: no bound.
+  int max_keyframes = 0;
 
   template <class V>
   void Visit(V&& v) {
@@ -37,6 +41,7 @@ struct MappingConfig {
     v("queue_size", queue_size, "keyframes queued for local mapping");
     v("busy_frames", busy_frames, "frames after a keyframe that mapping counts as busy; later keyframes interrupt its BA");
     v("final_ba_iterations", final_ba_iterations, "global BA iterations per stage when the sequence ends; 0: off");
+    v("max_keyframes", max_keyframes, "keyframes at which the map stops growing and frames are only tracked in it; 0: no bound");
   }
   void Validate(ConfigChecker& c) const;
 };

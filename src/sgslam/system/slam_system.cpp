@@ -252,15 +252,28 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
     const bool tracked = result.state == TrackState::kOk;
     semantic_->AddFrame(frame.id, frame.T_c_w, tracked ? frame.features->detections : kNone, images.depth);
   }
-  {
-    std::shared_lock lock(map_.mutex());
-    report.map_keyframes = static_cast<int>(map_.keyframes().size());
-    report.map_points = static_cast<int>(map_.map_points().size());
-  }
+  NoteMapSize(report);
   report.rss_mib = RssMiB();
   report.total_ms = total.ElapsedMs();
   if (snapshots_) PublishFrame(frame, images, report);
   return report;
+}
+
+void SlamSystem::NoteMapSize(FrameReport& report) {
+  std::size_t held = 0;
+  {
+    std::shared_lock lock(map_.mutex());
+    report.map_keyframes = static_cast<int>(map_.keyframes().size());
+    report.map_points = static_cast<int>(map_.map_points().size());
+    held = map_.keyframes().size() + map_.pending().size();
+  }
+  const int bound = config_.mapping.max_keyframes;
+  if (bound > 0 && !map_full_at_ && held >= static_cast<std::size_t>(bound)) {
+    spdlog::warn("the map holds {} keyframes (mapping.max_keyframes): it stops growing, and frames are tracked in it",
+                 held);
+    map_full_at_ = report.index;
+    tracker_.SetLocalizationOnly(true);
+  }
 }
 
 Frame SlamSystem::MakeFrame(std::uint64_t frame_id, const RgbdImages& images, FrameReport& report) {

@@ -79,6 +79,8 @@ class SlamSystem {
   // were localised in. From the thread that calls Process().
   void SetLocalizationOnly(bool on) { tracker_.SetLocalizationOnly(on); }
   bool localization_only() const { return tracker_.localization_only(); }
+  // The frame at which the map reached mapping.max_keyframes and stopped growing.
+  std::optional<std::size_t> map_full_at() const { return map_full_at_; }
   // Lets local mapping finish the queued keyframes, stops its thread and runs the
   // final bundle adjustment (mapping.final_ba_iterations). The destructor stops
   // without that adjustment.
@@ -145,6 +147,8 @@ class SlamSystem {
   // Process's steps: ORB features and Algorithm 1's labels; tracking; the exported
   // poses; the keyframes to local mapping.
   Frame MakeFrame(std::uint64_t frame_id, const RgbdImages& images, FrameReport& report);
+  // The map's size into the report; at mapping.max_keyframes, localisation only.
+  void NoteMapSize(FrameReport& report);
   TrackResult Track(Frame& frame, FrameReport& report);
   void RecordPoses(const Frame& frame, const TrackResult& result);
   void HandOverKeyFrames(const Frame& frame, const TrackResult& result, const RgbdImages& images,
@@ -187,6 +191,7 @@ class SlamSystem {
   std::vector<PoseRecord> records_;
   std::uint64_t next_frame_id_ = 0;
   std::uint64_t last_keyframe_frame_id_ = 0;  // for MappingConfig::busy_frames
+  std::optional<std::size_t> map_full_at_;     // mapping.max_keyframes reached at this frame
   std::optional<SemanticInput> waiting_;       // the last frame's keyframe, not yet mapped (Tracker::KeyFramesWait)
 
   std::unique_ptr<SemanticMapper> semantic_;  // fed by local mapping with refined keyframes
