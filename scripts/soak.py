@@ -6,7 +6,7 @@ that frames do not slow down over time and that the run ends cleanly.
 The `loop` preset is a closed path whose last frame is its first, so its frames
 repeated (the lists rewritten with shifted timestamps; the images are linked, not
 copied) make one continuous walk of any length.
-  scripts/soak.py [--frames 20000] [--work DIR] [-- options for sgslam run]
+  scripts/soak.py [--frames 20000] [--detector dnn|file] [--work DIR] [-- options for sgslam run]
 Prints: frames tracked, the map's keyframes and points (after 1 000 frames and at the
 end), resident memory then and its growth per keyframe added (MiB, least squares of
 frames.csv's rss_mib on map_keyframes), median frame ms of the first and last 1 000
@@ -64,6 +64,10 @@ def write_repeated(base, seq, frames):
         if j < len(gt):
             g = gt[j]
             out["groundtruth.txt"].append(f"{float(g[0]) + k * period:.6f} " + " ".join(g[1:]))
+    out["detections.txt"] = ["# detections: timestamp class_id score x0 y0 x1 y1 class_name (box in px)"]
+    boxes = data_lines(os.path.join(base, "detections.txt"))
+    for k in range((frames + lap - 1) // lap):
+        out["detections.txt"] += [f"{float(b[0]) + k * period:.6f} " + " ".join(b[1:]) for b in boxes]
     for name, lines in out.items():
         with open(os.path.join(seq, name), "w", encoding="utf-8") as f:
             f.write("\n".join(lines) + "\n")
@@ -90,7 +94,10 @@ def slope(xs, ys):
     return sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sxx if sxx > 0 else float("nan")
 
 
-def report(out, threads, status, wall):
+def report(out, threads, status, wall, log):
+    if not os.path.exists(os.path.join(out, "frames.csv")):
+        with open(log, encoding="utf-8") as f:
+            sys.exit(f"error: the run failed ({status}) and wrote no frames.csv:\n" + f.read()[-2000:])
     with open(os.path.join(out, "frames.csv"), encoding="utf-8") as f:
         rows = list(csv.DictReader(f))
     with open(os.path.join(out, "stats.json"), encoding="utf-8") as f:
@@ -124,6 +131,8 @@ def main():
     argv = argv[:argv.index("--")] if "--" in argv else argv
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--frames", type=int, default=20000)
+    p.add_argument("--detector", choices=("dnn", "file"), default="dnn",
+                   help="the real detector (default), or the sequence's ground-truth boxes replayed")
     p.add_argument("--sgslam", default=os.path.join(HERE, "..", "build", "sgslam"))
     p.add_argument("--work", help="folder for the sequence and the run (default: a temporary one); "
                                   "the rendered loop is kept there and reused")
@@ -135,9 +144,15 @@ def main():
     render_base(a.sgslam, base)
     write_repeated(base, seq, a.frames)
     start = time.monotonic()
-    status, threads = run_watched([a.sgslam, "run", "--dataset", seq, "--out", out] + extra,
-                                     os.path.join(work, "run.log"))
-    report(out, threads, status, time.monotonic() - start)
+    log = os.path.join(work, "run.log")
+    cmd = [a.sgslam, "run", "--dataset", seq, "--out", out]
+    if a.detector == "dnn":  # on top of the sequence's own sgslam.yaml, which replays its boxes
+        config = os.path.join(work, "dnn.yaml")
+        with open(config, "w", encoding="utf-8") as f:
+            f.write("detector:\n  backend: dnn\n")
+        cmd += ["--config", config]
+    status, threads = run_watched(cmd + extra, log)
+    report(out, threads, status, time.monotonic() - start, log)
     return 0 if status == 0 else 1
 
 
