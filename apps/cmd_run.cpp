@@ -30,7 +30,6 @@ Action AddRunCommand(CLI::App& root) {
                 "With --load-map: track in the map without adding keyframes or points (dynamic rejection stays on)")
       ->needs(load);
   cmd->add_option("--save-map", o->save_map, "Save the whole map to FILE at the end (and on SIGUSR1 during the run)");
-  cmd->add_option("--viewer", o->viewer_port, "Serve the live viewer on PORT")->expected(0, 1)->default_str("8080");
   return [o] {
     const RunSummary s = RunSequence(*o);
     std::printf("%s\n", FormatSummary(s).c_str());

@@ -291,7 +291,6 @@ RunSummary RunSequence(const RunOptions& o) {
   spdlog::info("dataset {}: {} RGB-D frames ({}), config: {}", dataset.dir().string(), dataset.size(),
                dataset.associations_from_file() ? "associations.txt" : "associated by timestamp", rc.source);
   WriteConfigUsed(rc, s.out);
-  if (o.viewer_port != 0) spdlog::warn("--viewer is not built yet; ignored");
 
   std::unique_ptr<Detector> detector = LoadDetector(config, o.dataset);
   const bool has_detector = detector != nullptr;

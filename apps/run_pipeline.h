@@ -20,7 +20,6 @@ struct RunOptions {
   // (ORB-SLAM2's TUM example does the same); otherwise as fast as they load.
   bool realtime = false;
   std::size_t max_frames = 0;
-  int viewer_port = 0;
   // Map reuse: the map to start from (relocalised in at the first frame), and the
   // file to save the map to at the end and on SIGUSR1.
   std::string load_map, save_map;
