@@ -119,8 +119,9 @@ FrameLoop RunFrames(const RunOptions& o, const TumDataset& dataset, const Config
       }
       FrameReport& r = loop.reports.emplace_back(system.Process(*frame));
       truth.AddFrame(r);
-      r.keypoints = {};  // keep the per-frame record small
-      r.rejected = {};
+      // Keep the per-frame record small: swapped out, as `= {}` keeps the capacity.
+      std::vector<cv::Point2f>().swap(r.keypoints);
+      std::vector<std::uint8_t>().swap(r.rejected);
       progress.Update(loop.reports.size(), loop.reports.size() / (wall.ElapsedMs() * 1e-3));
       if (g_octomap_requested.exchange(false)) {
         if (SemanticMapper* sem = system.semantic()) {

@@ -117,8 +117,13 @@ def report(out, threads, status, wall, log):
           f"{float(at['rss_mib']):.0f} MiB")
     print(f"at the end: {rows[-1]['map_keyframes']} keyframes, {rows[-1]['map_points']} points, "
           f"{float(rows[-1]['rss_mib']):.0f} MiB (peak {stats['peak_rss_mib']:.0f} MiB)")
-    print(f"memory growth: {slope(kf, rss):.3f} MiB per map keyframe; "
+    per_kf = slope(kf, rss) if len(set(kf)) > 1 else None
+    print("memory growth: " + (f"{per_kf:.3f} MiB per map keyframe; " if per_kf is not None else "") +
           f"{(rss[-1] - rss[0]) / max(1, len(rss)) * 1000:.2f} MiB per 1000 frames")
+    flat = [r for r in grown if int(r["map_keyframes"]) == kf[-1]]
+    if len(flat) > 1000:
+        print(f"while the map held its final size ({len(flat)} frames): "
+              f"{(float(flat[-1]['rss_mib']) - float(flat[0]['rss_mib'])) / len(flat) * 1000:.2f} MiB per 1000 frames")
     print(f"median frame ms: first 1000 {ms(head):.1f}, last 1000 {ms(tail):.1f} "
           f"(ratio {ms(tail) / ms(head):.2f}); fps {stats['fps']:.1f}")
     if "ate" in stats:
