@@ -230,6 +230,18 @@ struct RunMaps {
   nlohmann::json semantic;  // stats.json's semantic section; null without the semantic thread
 };
 
+// The semantic scores against ground-truth masks, into semantic["truth"]. Scoring
+// rereads masks and depth; one that cannot be read costs the scores (warned), not
+// stats.json.
+void AddSemanticTruth(const TruthScorer& truth, const SemanticMapper& sem, const TumDataset& dataset,
+                      const CameraConfig& camera, nlohmann::json& semantic) {
+  try {
+    if (nlohmann::json t = truth.SemanticJson(sem, dataset, camera); !t.is_null()) semantic["truth"] = t;
+  } catch (const std::exception& e) {
+    spdlog::warn("no scores of the semantic map against the ground-truth masks: {}", e.what());
+  }
+}
+
 // Every output but stats.json, each on its own: one that cannot be written does not
 // keep the others back.
 RunMaps WriteOutputs(const RunOptions& o, const Config& config, const TumDataset& dataset, FrameLoop& loop,
@@ -247,9 +259,12 @@ RunMaps WriteOutputs(const RunOptions& o, const Config& config, const TumDataset
   maps.map_points = points.size();
   failed.Try("map_points.ply", [&] { WritePly(out / "map_points.ply", points); });
   if (SemanticMapper* sem = system.semantic()) {
+    const OutputWriter each = [&](const std::string& name, const std::function<void()>& write) {
+      failed.Try(name, write);
+    };
     failed.Try("the semantic map",
-               [&] { maps.semantic = WriteSemanticMap(out, system, maps.trajectory, o.print_objects); });
-    if (nlohmann::json t = truth.SemanticJson(*sem, dataset, config.camera); !t.is_null()) maps.semantic["truth"] = t;
+               [&] { maps.semantic = WriteSemanticMap(out, system, maps.trajectory, o.print_objects, each); });
+    AddSemanticTruth(truth, *sem, dataset, config.camera, maps.semantic);
   }
   return maps;
 }

@@ -1,0 +1,69 @@
+// Regressions found by the fault-injection suite (scripts/faults.py): an output of
+// `sgslam run` that cannot be written keeps none of the others back, and scoring
+// data that cannot be read costs no output.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "support/test_support.h"
+
+namespace sgslam {
+namespace {
+
+namespace fs = std::filesystem;
+using test::RunSgslam;
+using test::TempDir;
+
+// A short rendered sequence with ground-truth masks, tracked from its first frame.
+fs::path Rendered(const TempDir& tmp) {
+  const fs::path seq = tmp / "seq";
+  const auto r = RunSgslam({"synth", "--preset", "static", "--frames", "6", "--out", seq.string()});
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  return seq;
+}
+
+nlohmann::json Stats(const fs::path& out) {
+  std::ifstream in(out / "stats.json");
+  return in ? nlohmann::json::parse(in) : nlohmann::json();
+}
+
+// cloud.ply, octomap.bt, objects.json and map_top.png were written as one step: the
+// first that failed (a full disk stops the 1 MB cloud first) took the small ones along.
+TEST(FaultsCli, EachSemanticOutputIsWrittenOnItsOwn) {
+  TempDir tmp;
+  Rendered(tmp);
+  fs::create_directories(tmp / "out" / "cloud.ply");
+  const auto r = RunSgslam({"run", "--dataset", (tmp / "seq").string(), "--out", (tmp / "out").string()});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("outputs not written: cloud.ply"), std::string::npos) << r.output;
+  for (const char* f : {"octomap.bt", "objects.json", "map_top.png", "stats.json"}) {
+    EXPECT_TRUE(fs::is_regular_file(tmp / "out" / f)) << f;
+  }
+  EXPECT_EQ(Stats(tmp / "out")["failed_outputs"], nlohmann::json::array({"cloud.ply"}));
+}
+
+// The semantic scores reread the keyframes' masks after the frames: a mask that
+// does not read ended the run there, before stats.json was written.
+TEST(FaultsCli, AnUnreadableTruthMaskCostsNoOutput) {
+  TempDir tmp;
+  const fs::path seq = Rendered(tmp);
+  std::ifstream list(seq / "mask.txt");
+  std::string line;
+  while (std::getline(list, line) && line.front() == '#') {
+  }
+  const fs::path mask = seq / line.substr(line.find(' ') + 1);
+  fs::remove(mask);
+  test::WriteText(mask, "not a png\n");
+  const auto r = RunSgslam({"run", "--dataset", seq.string(), "--out", (tmp / "out").string()});
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("cannot read dynamic mask"), std::string::npos) << r.output;
+  const auto stats = Stats(tmp / "out");
+  ASSERT_FALSE(stats.is_null()) << r.output;
+  EXPECT_EQ(stats["ended"].get<std::string>().rfind("failed: cannot read dynamic mask", 0), 0u) << stats["ended"];
+  EXPECT_TRUE(fs::is_regular_file(tmp / "out" / "trajectory.txt"));
+}
+
+}  // namespace
+}  // namespace sgslam
