@@ -1,8 +1,10 @@
 // Regressions found by the fault-injection suite (scripts/faults.py): an output of
-// `sgslam run` that cannot be written keeps none of the others back, and scoring
-// data that cannot be read costs no output.
+// `sgslam run` that cannot be written keeps none of the others back, scoring data
+// that cannot be read costs no output, a result that cannot reach stdout is an
+// error, and closed standard streams never take an output file's place.
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -14,6 +16,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using test::RunSgslam;
+using test::ShellQuote;
 using test::TempDir;
 
 // A short rendered sequence with ground-truth masks, tracked from its first frame.
@@ -27,6 +30,11 @@ fs::path Rendered(const TempDir& tmp) {
 nlohmann::json Stats(const fs::path& out) {
   std::ifstream in(out / "stats.json");
   return in ? nlohmann::json::parse(in) : nlohmann::json();
+}
+
+std::string Shell(const TempDir& tmp, const std::string& args) {
+  return ShellQuote(SGSLAM_BINARY) + " run --dataset " + ShellQuote((tmp / "seq").string()) + " --out " +
+         ShellQuote((tmp / "out").string()) + " " + args;
 }
 
 // cloud.ply, octomap.bt, objects.json and map_top.png were written as one step: the
@@ -63,6 +71,29 @@ TEST(FaultsCli, AnUnreadableTruthMaskCostsNoOutput) {
   ASSERT_FALSE(stats.is_null()) << r.output;
   EXPECT_EQ(stats["ended"].get<std::string>().rfind("failed: cannot read dynamic mask", 0), 0u) << stats["ended"];
   EXPECT_TRUE(fs::is_regular_file(tmp / "out" / "trajectory.txt"));
+}
+
+// eval --json on a full disk printed nothing and exited 0.
+TEST(FaultsCli, AResultThatCannotReachStdoutIsAnError) {
+  TempDir tmp;
+  const std::string gt = ShellQuote((Rendered(tmp) / "groundtruth.txt").string());
+  const auto r = test::RunShell(ShellQuote(SGSLAM_BINARY) + " eval --json --gt " + gt + " --est " + gt +
+                                " 2>&1 >/dev/full; echo \"status $?\"");
+  EXPECT_NE(r.output.find("cannot write to standard output"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("status 1"), std::string::npos) << r.output;
+}
+
+// With stdout and stderr closed, the run's files take descriptors 1 and 2 unless
+// they are reopened: a log line or the summary would then land in an output.
+TEST(FaultsCli, ClosedStandardStreamsLeaveTheOutputsWhole) {
+  TempDir tmp;
+  Rendered(tmp);
+  const auto r = test::RunShell(Shell(tmp, ">&- 2>&-") + "; echo \"status $?\"");
+  EXPECT_NE(r.output.find("status 0"), std::string::npos) << r.output;
+  EXPECT_EQ(Stats(tmp / "out")["ended"], "completed");
+  std::ifstream trajectory(tmp / "out" / "trajectory.txt");
+  std::string line;
+  while (std::getline(trajectory, line)) EXPECT_TRUE(line[0] == '#' || std::isdigit(line[0]) || line[0] == '-') << line;
 }
 
 }  // namespace
