@@ -1,7 +1,8 @@
 // Regressions found by the fault-injection suite (scripts/faults.py): an output of
 // `sgslam run` that cannot be written keeps none of the others back, scoring data
 // that cannot be read costs no output, a result that cannot reach stdout is an
-// error, and closed standard streams never take an output file's place.
+// error, closed standard streams never take an output file's place, and a bad
+// count is refused.
 #include <gtest/gtest.h>
 
 #include <cctype>
@@ -94,6 +95,14 @@ TEST(FaultsCli, ClosedStandardStreamsLeaveTheOutputsWhole) {
   std::ifstream trajectory(tmp / "out" / "trajectory.txt");
   std::string line;
   while (std::getline(trajectory, line)) EXPECT_TRUE(line[0] == '#' || std::isdigit(line[0]) || line[0] == '-') << line;
+}
+
+// CLI11 read a count beyond 64 bits as 2^64 - 1 and ran every frame.
+TEST(FaultsCli, AFrameCountBeyond64BitsIsAUsageError) {
+  TempDir tmp;
+  const auto r = RunSgslam({"run", "--dataset", tmp.path().string(), "--max-frames", "99999999999999999999999"});
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--max-frames"), std::string::npos) << r.output;
 }
 
 }  // namespace
