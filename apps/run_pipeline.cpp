@@ -91,6 +91,18 @@ std::unique_ptr<Detector> LoadDetector(const Config& config, const fs::path& dat
   return uses_boxes ? MakeDetector(config.detector, dataset_dir) : nullptr;
 }
 
+// --realtime's wait for a frame's time, cut short by a stop signal: a gap in the
+// timestamps (an hour between two frames) must not keep a SIGTERM waiting for it.
+// A signal does not end a sleep (it is restarted), hence the slices.
+void WaitUntilOrStopped(std::chrono::steady_clock::time_point deadline) {
+  constexpr auto kSlice = std::chrono::milliseconds(50);
+  while (!StopSignals::Received()) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now >= deadline) return;
+    std::this_thread::sleep_for(std::min<std::chrono::steady_clock::duration>(deadline - now, kSlice));
+  }
+}
+
 struct FrameLoop {
   std::vector<FrameReport> reports;
   std::string failure;  // the error that ended the loop early, after some frames
@@ -110,7 +122,7 @@ FrameLoop RunFrames(const RunOptions& o, const TumDataset& dataset, const Config
     while (auto frame = stream.Next()) {
       if (o.realtime) {  // wait for the frame's time; a late frame goes at once (none is dropped)
         if (loop.reports.empty()) t_first = frame->t;
-        std::this_thread::sleep_until(start + std::chrono::nanoseconds(frame->t - t_first));
+        WaitUntilOrStopped(start + std::chrono::nanoseconds(frame->t - t_first));
       }
       if (loop.reports.empty()) CheckDepthScale(*frame, dataset.frames()[frame->index], config.camera, config.dataset);
       FrameReport& r = loop.reports.emplace_back(system.Process(*frame));

@@ -1,8 +1,8 @@
 // Regressions found by the fault-injection suite (scripts/faults.py): an output of
 // `sgslam run` that cannot be written keeps none of the others back, scoring data
 // that cannot be read costs no output, a result that cannot reach stdout is an
-// error, closed standard streams never take an output file's place, and a bad
-// count is refused.
+// error, closed standard streams never take an output file's place, a bad count is
+// refused and a stop signal ends a --realtime wait.
 #include <gtest/gtest.h>
 
 #include <cctype>
@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "support/test_support.h"
+#include "support/tiny_dataset.h"
 
 namespace sgslam {
 namespace {
@@ -103,6 +104,22 @@ TEST(FaultsCli, AFrameCountBeyond64BitsIsAUsageError) {
   const auto r = RunSgslam({"run", "--dataset", tmp.path().string(), "--max-frames", "99999999999999999999999"});
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("--max-frames"), std::string::npos) << r.output;
+}
+
+// --realtime waits for each frame's time: a SIGTERM during a wait of an hour (a gap
+// in the timestamps) was held until the hour was over.
+TEST(FaultsCli, AStopSignalEndsARealtimeWait) {
+  TempDir tmp;
+  test::WriteTinyDataset(tmp / "seq", 2);
+  std::ofstream(tmp / "seq" / "rgb.txt", std::ios::app) << "4600.000000 rgb/1000.000000.png\n";
+  std::ofstream(tmp / "seq" / "depth.txt", std::ios::app) << "4600.005000 depth/1000.005000.png\n";
+  const auto r = test::RunShell(Shell(tmp, "--realtime --mode none") +
+                                " & p=$!; sleep 2; kill -TERM $p; for i in $(seq 100); do kill -0 $p 2>/dev/null || "
+                                "break; sleep 0.1; done; kill -KILL $p 2>/dev/null && echo hung; wait $p; "
+                                "echo \"status $?\"");
+  EXPECT_EQ(r.output.find("hung"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("status 143"), std::string::npos) << r.output;
+  EXPECT_EQ(Stats(tmp / "out")["ended"], "interrupted by SIGTERM");
 }
 
 }  // namespace
