@@ -89,12 +89,23 @@ def _(t):
     t.run(ds)
 
 
-@case("detections-huge-boxes", "boxes of +-1e30 px and class 999999 in every frame's detections", 0, short=True)
+def boxes_everywhere(t, ds, lines):
+    stamps = [l.split()[0] for l in files.data_lines(os.path.join(ds, "rgb.txt"))]
+    write_lines(os.path.join(ds, "detections.txt"), [f"{s} {line}" for s in stamps for line in lines])
+
+
+@case("detections-huge-boxes", "a box of +-1e30 px in every frame's detections", 1,
+      r"detections\.txt:\d+.*beyond", short=True)
 def _(t):
     ds = t.dataset()
-    stamps = [l.split()[0] for l in files.data_lines(os.path.join(ds, "rgb.txt"))]
-    write_lines(os.path.join(ds, "detections.txt"),
-                [f"{s} 0 1.0 -1e30 -1e30 1e30 1e30 person\n{s} 999999 0.5 100 100 5e9 5e9 thing" for s in stamps])
+    boxes_everywhere(t, ds, ["0 1.0 -1e30 -1e30 1e30 1e30 person"])
+    t.run(ds, "--max-frames", 12)
+
+
+@case("detections-far-boxes", "boxes of +-1e5 px, far outside the image, and class 999999 in every frame", 0)
+def _(t):
+    ds = t.dataset()
+    boxes_everywhere(t, ds, ["0 1.0 -1e5 -1e5 1e5 1e5 person", "999999 0.5 100 100 9e5 9e5 thing"])
     t.run(ds, "--max-frames", 12, frames=(12, 12))
 
 
