@@ -1,13 +1,31 @@
 // sgslam run: process an RGB-D sequence and write the outputs of the contract in
 // architecture.md (see run_pipeline.h).
 #include <CLI/CLI.hpp>
+#include <charconv>
+#include <cstdint>
 #include <cstdio>
 #include <memory>
+#include <string>
 
 #include "commands.h"
 #include "run_pipeline.h"
 
 namespace sgslam::app {
+
+namespace {
+
+// CLI11 2.1 converts a count past 2^64 - 1 to 2^64 - 1 (strtoull's range error
+// unchecked): such a count is refused as a bad command line instead.
+const CLI::Validator kCount64(
+    [](std::string& text) {
+      std::uint64_t value = 0;
+      const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+      if (ec == std::errc::result_out_of_range) return "Value " + text + " is out of range (at most 2^64 - 1)";
+      return std::string();
+    },
+    "", "64-bit count");
+
+}  // namespace
 
 Action AddRunCommand(CLI::App& root) {
   auto o = std::make_shared<RunOptions>();
@@ -20,7 +38,7 @@ Action AddRunCommand(CLI::App& root) {
       ->check(CLI::IsMember({"none", "semantic", "geometric", "sg"}));
   cmd->add_option("--model", o->model, "Detector model folder (default: $SGSLAM_MODEL_DIR, else the models shipped with sgslam)");
   cmd->add_flag("--no-detector", o->no_detector, "Run without the object detector (geometry only)");
-  cmd->add_option("--max-frames", o->max_frames, "Stop after N frames (0: all)")->check(CLI::NonNegativeNumber);
+  cmd->add_option("--max-frames", o->max_frames, "Stop after N frames (0: all)")->check(CLI::NonNegativeNumber)->check(kCount64);
   cmd->add_flag("--sequential", o->sequential, "Step every module in one thread (deterministic output)");
   cmd->add_flag("--realtime", o->realtime,
                 "Hand frames over at the pace of their timestamps, like a live camera (default: as fast as they load)");

@@ -48,17 +48,17 @@ void WriteDetections(const std::filesystem::path& path, std::vector<FrameReport>
   WriteDetectionsFile(path, boxes);
 }
 
-nlohmann::json WriteSemanticMap(const std::filesystem::path& out, SlamSystem& system,
-                                const Trajectory& trajectory, bool print_objects) {
+nlohmann::json WriteSemanticMap(const std::filesystem::path& out, SlamSystem& system, const Trajectory& trajectory,
+                                bool print_objects, const OutputWriter& write_output) {
   SemanticMapper* sem = system.semantic();
   std::vector<Eigen::Vector3d> cloud;
   std::vector<Rgb> colours;
   std::vector<ObjectEstimate> objects;
   system.ExportSemantic(cloud, colours, objects);
-  WritePly(out / "cloud.ply", cloud, colours);
-  sem->octomap().Write(out / "octomap.bt");
-  WriteObjectsJson(out / "objects.json", objects);
-  WriteTopView(out / "map_top.png", cloud, colours, objects, trajectory);
+  write_output("cloud.ply", [&] { WritePly(out / "cloud.ply", cloud, colours); });
+  write_output("octomap.bt", [&] { sem->octomap().Write(out / "octomap.bt"); });
+  write_output("objects.json", [&] { WriteObjectsJson(out / "objects.json", objects); });
+  write_output("map_top.png", [&] { WriteTopView(out / "map_top.png", cloud, colours, objects, trajectory); });
   if (print_objects) PrintObjectTable(objects);
   const SemanticStats st = sem->stats();
   if (st.dropped > 0) spdlog::warn("semantic mapping fell behind: {} keyframes left out of the map", st.dropped);

@@ -91,6 +91,18 @@ std::unique_ptr<Detector> LoadDetector(const Config& config, const fs::path& dat
   return uses_boxes ? MakeDetector(config.detector, dataset_dir) : nullptr;
 }
 
+// --realtime's wait for a frame's time, cut short by a stop signal: a gap in the
+// timestamps (an hour between two frames) must not keep a SIGTERM waiting for it.
+// A signal does not end a sleep (it is restarted), hence the slices.
+void WaitUntilOrStopped(std::chrono::steady_clock::time_point deadline) {
+  constexpr auto kSlice = std::chrono::milliseconds(50);
+  while (!StopSignals::Received()) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now >= deadline) return;
+    std::this_thread::sleep_for(std::min<std::chrono::steady_clock::duration>(deadline - now, kSlice));
+  }
+}
+
 struct FrameLoop {
   std::vector<FrameReport> reports;
   std::string failure;  // the error that ended the loop early, after some frames
@@ -110,7 +122,7 @@ FrameLoop RunFrames(const RunOptions& o, const TumDataset& dataset, const Config
     while (auto frame = stream.Next()) {
       if (o.realtime) {  // wait for the frame's time; a late frame goes at once (none is dropped)
         if (loop.reports.empty()) t_first = frame->t;
-        std::this_thread::sleep_until(start + std::chrono::nanoseconds(frame->t - t_first));
+        WaitUntilOrStopped(start + std::chrono::nanoseconds(frame->t - t_first));
       }
       if (loop.reports.empty()) {
         if (const auto warning = CheckDepthScale(*frame, dataset.frames()[frame->index], config.camera, config.dataset)) {
@@ -235,6 +247,18 @@ struct RunMaps {
   nlohmann::json semantic;  // stats.json's semantic section; null without the semantic thread
 };
 
+// The semantic scores against ground-truth masks, into semantic["truth"]. Scoring
+// rereads masks and depth; one that cannot be read costs the scores (warned), not
+// stats.json.
+void AddSemanticTruth(const TruthScorer& truth, const SemanticMapper& sem, const TumDataset& dataset,
+                      const CameraConfig& camera, nlohmann::json& semantic) {
+  try {
+    if (nlohmann::json t = truth.SemanticJson(sem, dataset, camera); !t.is_null()) semantic["truth"] = t;
+  } catch (const std::exception& e) {
+    spdlog::warn("no scores of the semantic map against the ground-truth masks: {}", e.what());
+  }
+}
+
 // Every output but stats.json, each on its own: one that cannot be written does not
 // keep the others back.
 RunMaps WriteOutputs(const RunOptions& o, const Config& config, const TumDataset& dataset, FrameLoop& loop,
@@ -252,9 +276,12 @@ RunMaps WriteOutputs(const RunOptions& o, const Config& config, const TumDataset
   maps.map_points = points.size();
   failed.Try("map_points.ply", [&] { WritePly(out / "map_points.ply", points); });
   if (SemanticMapper* sem = system.semantic()) {
+    const OutputWriter each = [&](const std::string& name, const std::function<void()>& write) {
+      failed.Try(name, write);
+    };
     failed.Try("the semantic map",
-               [&] { maps.semantic = WriteSemanticMap(out, system, maps.trajectory, o.print_objects); });
-    if (nlohmann::json t = truth.SemanticJson(*sem, dataset, config.camera); !t.is_null()) maps.semantic["truth"] = t;
+               [&] { maps.semantic = WriteSemanticMap(out, system, maps.trajectory, o.print_objects, each); });
+    AddSemanticTruth(truth, *sem, dataset, config.camera, maps.semantic);
   }
   return maps;
 }

@@ -71,6 +71,7 @@ TEST(DetectionsFile, MalformedLinesNameFileAndLine) {
       "1.0 1.5 0.9 1 2 3 4 person",  // class id not an integer
       "1.0 0 0.9 1 2 3 nan person",  // not finite
       "1.0 0 0.9 5 2 3 4 person",    // x1 < x0
+      "1.0 0 0.9 -1e30 0 1e30 4 person",  // beyond int once in pixels
   };
   for (const std::string& line : bad) {
     test::TempDir dir;

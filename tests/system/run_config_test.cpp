@@ -108,5 +108,25 @@ TEST(RunConfig, AShippedConfigIsFoundByName) {
   }
 }
 
+// --config naming a folder: an error naming it (the YAML reader's stream error,
+// "basic_filebuf::underflow ... Is a directory", named nothing); a bare name that
+// is a folder here still finds the shipped config of that name.
+TEST(RunConfig, AFolderGivenAsConfigIsAnErrorNamingIt) {
+  test::TempDir tmp;
+  fs::create_directories(tmp / "conf.yaml");
+  try {
+    ResolveRunConfig(tmp / "conf.yaml", tmp.path());
+    ADD_FAILURE() << "no error for a folder";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("conf.yaml is a folder"), std::string::npos) << e.what();
+  }
+  const fs::path cwd = fs::current_path();
+  fs::create_directories(tmp / "bonn");
+  fs::current_path(tmp.path());
+  const fs::path shipped = ResolveConfigPath("bonn");
+  fs::current_path(cwd);
+  EXPECT_EQ(shipped.parent_path().filename(), "configs") << shipped;
+}
+
 }  // namespace
 }  // namespace sgslam

@@ -50,6 +50,13 @@ Detection ParseDetection(const std::vector<std::string_view>& f, std::string_vie
   const double x1 = ParseNumber(f[5], path, line, "x1");
   const double y1 = ParseNumber(f[6], path, line, "y1");
   if (x1 < x0 || y1 < y0) throw ParseError(path.string(), line, "box corners out of order (need x0 <= x1, y0 <= y1)");
+  // Boxes become integer pixel rectangles downstream: a corner at 1e30 px overflowed int.
+  for (const double c : {x0, y0, x1, y1}) {
+    if (std::abs(c) > kMaxBoxCoordinate) {
+      throw ParseError(path.string(), line, "box corner " + std::string(f[3]) + " " + std::string(f[4]) + " " +
+                                                std::string(f[5]) + " " + std::string(f[6]) + " beyond +-1e6 px");
+    }
+  }
   d.box = cv::Rect2f(static_cast<float>(x0), static_cast<float>(y0), static_cast<float>(x1 - x0),
                      static_cast<float>(y1 - y0));
   d.class_name = std::string(name);

@@ -18,12 +18,17 @@ namespace sgslam {
 
 using FrameDetections = std::pair<Timestamp, std::vector<Detection>>;
 
+// The farthest a box corner may lie from the image origin, px: far beyond any
+// image, and far from int's range, where the pixel rectangles made of boxes live.
+inline constexpr double kMaxBoxCoordinate = 1e6;
+
 // Writes atomically; frames without detections leave no line. Timestamps with 6
 // decimals (FormatTimestamp), score and corners with 3.
 void WriteDetectionsFile(const std::filesystem::path& path, const std::vector<FrameDetections>& frames);
 
 // Reads every detection, grouped by timestamp in file order. Throws InputError for a
-// missing file and ParseError (file:line) for a malformed line.
+// missing file and ParseError (file:line) for a malformed line or a corner beyond
+// kMaxBoxCoordinate.
 std::map<Timestamp, std::vector<Detection>> ReadDetectionsFile(const std::filesystem::path& path);
 
 }  // namespace sgslam

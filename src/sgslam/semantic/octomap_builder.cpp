@@ -88,7 +88,12 @@ void OctoMapBuilder::Clear() {
 }
 
 void OctoMapBuilder::Finalize() {
-  if (!dirty_) return;
+  // ColorOcTree::updateInnerOccupancy (OctoMap 1.9) dereferences the root without
+  // checking it: a tree that every insert left empty (no depth in range) has none.
+  if (!dirty_ || tree_->getRoot() == nullptr) {
+    dirty_ = false;
+    return;
+  }
   tree_->updateInnerOccupancy();
   tree_->prune();  // merges uniform (mostly free) regions: memory proportional to surfaces
   dirty_ = false;

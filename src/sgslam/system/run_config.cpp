@@ -13,7 +13,15 @@ namespace fs = std::filesystem;
 
 fs::path ResolveConfigPath(const fs::path& config) {
   std::error_code ec;
-  if (fs::is_regular_file(config, ec) || config.has_parent_path()) return config;
+  if (fs::is_regular_file(config, ec)) return config;
+  if (config.has_parent_path()) {
+    // A folder (or a device) would reach the YAML reader, whose stream error names no file.
+    if (fs::exists(config, ec)) {
+      throw ConfigError("config file " + config.string() + " is " +
+                        (fs::is_directory(config, ec) ? "a folder" : "not a regular file"));
+    }
+    return config;
+  }
   const auto data = DataDir();
   if (!data) {
     throw InputError("config file not found: " + config.string() +
