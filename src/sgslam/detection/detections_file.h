@@ -23,7 +23,8 @@ using FrameDetections = std::pair<Timestamp, std::vector<Detection>>;
 void WriteDetectionsFile(const std::filesystem::path& path, const std::vector<FrameDetections>& frames);
 
 // Reads every detection, grouped by timestamp in file order. Throws InputError for a
-// missing file and ParseError (file:line) for a malformed line.
+// missing file and ParseError (file:line) for a malformed line: a score outside
+// [0, 1], a corner more than 1e6 px from 0, or corners out of order, say.
 std::map<Timestamp, std::vector<Detection>> ReadDetectionsFile(const std::filesystem::path& path);
 
 }  // namespace sgslam
