@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
 # Installs the Debian packages sgslam needs (only the missing ones; apt-get update
 # only when something must be installed) and configures and builds a Release build.
-#   scripts/setup.sh [--no-build] [--asan|--tsan] [--target T]...
-# Build folder: build, build-asan or build-tsan. --target builds a CMake target
-# (repeat it for more; the demo builds only `sgslam`); without it every target,
-# tests included.
+#   scripts/setup.sh [--no-build] [--asan|--tsan|--fuzz] [--target T]...
+# Build folder: build, build-asan, build-tsan or build-fuzz (--fuzz: clang-14 and
+# libFuzzer too; scripts/fuzz.sh runs the fuzz targets). --target builds a CMake
+# target (repeat it for more; the demo builds only `sgslam`); without it every
+# target, tests included.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -30,7 +31,12 @@ while [ $# -gt 0 ]; do
       targets+=(--target "$1"); shift ;;
     --asan) build_dir=build-asan; cmake_flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DSGSLAM_ASAN=ON -DSGSLAM_BUILD_BENCH=OFF) ;;
     --tsan) build_dir=build-tsan; cmake_flags=(-DCMAKE_BUILD_TYPE=RelWithDebInfo -DSGSLAM_TSAN=ON -DSGSLAM_BUILD_BENCH=OFF) ;;
-    *) echo "setup.sh: unknown option '$arg' (use --no-build, --asan, --tsan or --target T)" >&2; exit 2 ;;
+    --fuzz)
+      build_dir=build-fuzz
+      cmake_flags=(-DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSGSLAM_FUZZ=ON
+                   -DSGSLAM_BUILD_TESTS=OFF -DSGSLAM_BUILD_BENCH=OFF)
+      PACKAGES+=(clang-14 libclang-rt-14-dev) ;;
+    *) echo "setup.sh: unknown option '$arg' (use --no-build, --asan, --tsan, --fuzz or --target T)" >&2; exit 2 ;;
   esac
 done
 

@@ -86,6 +86,30 @@ TEST(DetectionsFile, MalformedLinesNameFileAndLine) {
   }
 }
 
+// Values that parse as numbers but not as a detection: a score of 1e300 became an
+// infinite float, and corners of 3e38 an infinite width, or beyond int's range where
+// the dynamic masks cast them (the fuzz target checks every detection it gets).
+TEST(DetectionsFile, ScoresAndCornersOutOfRangeNameTheValue) {
+  const std::vector<std::pair<std::string, std::string>> bad = {
+      {"1.0 0 1e300 1 2 3 4 person", "score"},
+      {"1.0 0 -0.1 1 2 3 4 person", "score"},
+      {"1.0 0 0.9 -3e38 2 3e38 4 person", "x0 = -3e38"},
+      {"1.0 0 0.9 1 2 3 1e10 person", "y1 = 1e10"},
+  };
+  for (const auto& [line, named] : bad) {
+    test::TempDir dir;
+    const auto path = dir / "d.txt";
+    test::WriteText(path, "1.0 0 0.9 -1000 -5 1e6 4 person\n" + line + "\n");
+    try {
+      ReadDetectionsFile(path);
+      ADD_FAILURE() << "no error for: " << line;
+    } catch (const ParseError& e) {
+      EXPECT_NE(std::string(e.what()).find(path.string() + ":2:"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(named), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(DetectionsFile, MissingFileIsAnInputError) {
   test::TempDir dir;
   EXPECT_THROW(ReadDetectionsFile(dir / "none.txt"), InputError);

@@ -3,6 +3,7 @@
 // reason; a map made with another camera or vocabulary is refused.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -173,13 +174,9 @@ TEST(MapFile, InconsistentContentIsRefusedEvenWithAGoodChecksum) {
   EXPECT_NE(DecodeError(Encode(d)).find("no keyframe"), std::string::npos);
 }
 
-// A count no file could hold (the checksum is no defence: anyone can compute one)
-// is refused before anything is allocated for it.
-TEST(MapFile, AHugeCountIsRefusedNotAllocated) {
-  std::string payload(1, '\x01');  // the portable archive's byte order flag
-  const std::uint64_t huge = std::uint64_t{1} << 60;  // the length of MapData::created
-  payload.append(reinterpret_cast<const char*>(&huge), sizeof huge);
-  payload += std::string(64, 'x');
+// A map file around `payload`, with its size and checksum (the checksum is no
+// defence against a crafted file: anyone can compute one).
+std::string FileOf(const std::string& payload) {
   std::string file = "SGMAP";
   file.append(3, '\0');
   const std::uint32_t version = kFormatVersion;
@@ -188,8 +185,35 @@ TEST(MapFile, AHugeCountIsRefusedNotAllocated) {
   file.append(reinterpret_cast<const char*>(&size), sizeof size);
   const std::string hex = Sha256Hex(payload);
   for (std::size_t i = 0; i < 32; ++i) file += static_cast<char>(std::stoi(hex.substr(2 * i, 2), nullptr, 16));
-  file += payload;
+  return file + payload;
+}
+
+// A count no file could hold is refused before anything is allocated for it.
+TEST(MapFile, AHugeCountIsRefusedNotAllocated) {
+  std::string payload(1, '\x01');  // the portable archive's byte order flag
+  const std::uint64_t huge = std::uint64_t{1} << 60;  // the length of MapData::created
+  payload.append(reinterpret_cast<const char*>(&huge), sizeof huge);
+  payload += std::string(64, 'x');
+  const std::string file = FileOf(payload);
   EXPECT_NE(DecodeError(file).find("cannot decode"), std::string::npos) << DecodeError(file);
+}
+
+// A true/false byte of 255 was copied into a bool: undefined behaviour, which UBSan
+// reported in Describe (`sgslam map info`). Found by the map fuzz target.
+TEST(MapFile, ATrueFalseByteOtherThanZeroOrOneIsRefused) {
+  MapData d = ReadMapFile(Mapped().map);
+  ASSERT_TRUE(d.semantic.present);
+  const std::string with = Encode(d).substr(52);
+  d.semantic.present = false;
+  const std::string without = Encode(d).substr(52);
+  ASSERT_EQ(with.size(), without.size());
+  const auto at = static_cast<std::size_t>(std::mismatch(with.begin(), with.end(), without.begin()).first - with.begin());
+  ASSERT_LT(at, with.size());
+  std::string payload = with;
+  payload[at] = '\xff';
+  const std::string why = DecodeError(FileOf(payload));
+  EXPECT_NE(why.find("cannot decode"), std::string::npos) << why;
+  EXPECT_NE(why.find("true/false byte of value 255"), std::string::npos) << why;
 }
 
 TEST(MapFile, AMapOfAnotherCameraOrVocabularyIsRefused) {

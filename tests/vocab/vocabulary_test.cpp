@@ -1,11 +1,13 @@
 // The vocabulary tree: quantisation, bag-of-words scores, training, and the file.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <fstream>
 #include <random>
 
 #include "sgslam/common/data_dir.h"
 #include "sgslam/common/error.h"
+#include "sgslam/common/sha256.h"
 #include "sgslam/features/hamming.h"
 #include "sgslam/loop/vocabulary_file.h"
 #include "sgslam/vocab/training.h"
@@ -135,6 +137,17 @@ TEST(Vocabulary, BrokenFilesAreRefusedNamingTheFile) {
   ExpectRefused("hello, world, this is not a vocabulary at all, not even close to one, no", "not an sgslam vocabulary");
   ExpectRefused("", "not an sgslam vocabulary");
   EXPECT_THROW(Vocabulary::Load("/nonexistent/v.vocab"), InputError);
+}
+
+// A word weight far above any IDF loaded, and a few descriptors that fell into it
+// added up past float's range in Transform: NaN scores (found by the vocabulary
+// fuzz target).
+TEST(Vocabulary, AWeightAboveAnyIdfIsRefused) {
+  const std::string good = SmallVocabulary().Serialize();
+  std::string body = good.substr(0, good.size() - 64);
+  const float weight = 9e37f;  // the last node, a leaf
+  std::memcpy(body.data() + body.size() - sizeof weight, &weight, sizeof weight);
+  ExpectRefused(body + Sha256Hex(body), "has the weight 9e+37, outside an IDF's range");
 }
 
 TEST(Vocabulary, BadTrainingOptionsAreRefused) {

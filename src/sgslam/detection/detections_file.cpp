@@ -36,6 +36,14 @@ bool SplitFields(std::string_view line, int count, std::vector<std::string_view>
   return !rest.empty();
 }
 
+double ParseCorner(std::string_view token, const fs::path& path, int line, const char* what) {
+  const double v = ParseNumber(token, path, line, what);
+  if (std::abs(v) > kMaxBoxCoordinate) {  // boxes become integer pixel rectangles downstream
+    throw ParseError(path.string(), line, std::string(what) + " = " + std::string(token) + " is beyond +-1e6 px");
+  }
+  return v;
+}
+
 Detection ParseDetection(const std::vector<std::string_view>& f, std::string_view name, const fs::path& path,
                          int line) {
   Detection d;
@@ -44,19 +52,14 @@ Detection ParseDetection(const std::vector<std::string_view>& f, std::string_vie
     throw ParseError(path.string(), line, "class_id must be a non-negative integer, got '" + std::string(f[1]) + "'");
   }
   d.class_id = static_cast<int>(class_id);
-  d.score = static_cast<float>(ParseNumber(f[2], path, line, "score"));
-  const double x0 = ParseNumber(f[3], path, line, "x0");
-  const double y0 = ParseNumber(f[4], path, line, "y0");
-  const double x1 = ParseNumber(f[5], path, line, "x1");
-  const double y1 = ParseNumber(f[6], path, line, "y1");
+  const double score = ParseNumber(f[2], path, line, "score");
+  if (score < 0 || score > 1) throw ParseError(path.string(), line, "score must be in [0, 1], got '" + std::string(f[2]) + "'");
+  d.score = static_cast<float>(score);
+  const double x0 = ParseCorner(f[3], path, line, "x0");
+  const double y0 = ParseCorner(f[4], path, line, "y0");
+  const double x1 = ParseCorner(f[5], path, line, "x1");
+  const double y1 = ParseCorner(f[6], path, line, "y1");
   if (x1 < x0 || y1 < y0) throw ParseError(path.string(), line, "box corners out of order (need x0 <= x1, y0 <= y1)");
-  // Boxes become integer pixel rectangles downstream: a corner at 1e30 px overflowed int.
-  for (const double c : {x0, y0, x1, y1}) {
-    if (std::abs(c) > kMaxBoxCoordinate) {
-      throw ParseError(path.string(), line, "box corner " + std::string(f[3]) + " " + std::string(f[4]) + " " +
-                                                std::string(f[5]) + " " + std::string(f[6]) + " beyond +-1e6 px");
-    }
-  }
   d.box = cv::Rect2f(static_cast<float>(x0), static_cast<float>(y0), static_cast<float>(x1 - x0),
                      static_cast<float>(y1 - y0));
   d.class_name = std::string(name);

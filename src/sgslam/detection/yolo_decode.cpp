@@ -42,7 +42,7 @@ std::vector<Detection> DecodeYoloOutputs(const std::vector<cv::Mat>& outputs, cv
   for (const auto& [c, k] : by_class) {
     std::vector<int> keep;
     cv::dnn::NMSBoxes(k.boxes, k.scores, 0.f, params.nms_threshold, keep);
-    std::stable_sort(keep.begin(), keep.end(), [&](int a, int b) { return k.scores[a] > k.scores[b]; });
+    std::stable_sort(keep.begin(), keep.end(), [&scores = k.scores](int a, int b) { return scores[a] > scores[b]; });
     for (int i : keep) {
       const cv::Rect2d box = k.boxes[static_cast<std::size_t>(i)] & frame;
       if (box.width <= 0 || box.height <= 0) continue;

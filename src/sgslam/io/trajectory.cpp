@@ -1,6 +1,7 @@
 #include "sgslam/io/trajectory.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -22,7 +23,10 @@ Trajectory ReadTumTrajectory(const std::filesystem::path& path) {
     static const char* kNames[7] = {"tx", "ty", "tz", "qx", "qy", "qz", "qw"};
     for (int i = 0; i < 7; ++i) v[i] = ParseNumber(tok[i + 1], path, line, kNames[i]);
     const Eigen::Quaterniond q(v[6], v[3], v[4], v[5]);
-    if (q.norm() < 1e-6) throw ParseError(path.string(), line, "quaternion has zero norm");
+    const double norm = q.norm();
+    if (norm < 1e-6) throw ParseError(path.string(), line, "quaternion has zero norm");
+    // Components beyond ~1e154 overflow the norm, and normalising by it would give zero.
+    if (!std::isfinite(norm)) throw ParseError(path.string(), line, "quaternion too large to normalise");
     out.push_back({*t, SE3(q, Eigen::Vector3d(v[0], v[1], v[2]))});
   });
   std::stable_sort(out.begin(), out.end(), [](const StampedPose& a, const StampedPose& b) { return a.t < b.t; });

@@ -16,7 +16,8 @@ struct StampedPose {
 using Trajectory = std::vector<StampedPose>;
 
 // Reads a TUM trajectory, sorted by time. Throws InputError for a missing file and
-// ParseError (file:line) for a line without 8 numbers or with a zero quaternion.
+// ParseError (file:line) for a line without 8 numbers, or with a quaternion whose
+// norm is zero or overflows.
 Trajectory ReadTumTrajectory(const std::filesystem::path& path);
 
 // Writes atomically; timestamps with 6 decimals, values with 9 significant digits.

@@ -38,6 +38,14 @@ std::vector<ListEntry> ReadList(const fs::path& file, const fs::path& dir) {
     entries.push_back({*t, dir / fs::path(std::string(tok[1])), line});
   });
   std::stable_sort(entries.begin(), entries.end(), [](const ListEntry& a, const ListEntry& b) { return a.t < b.t; });
+  // Equal times (placeholders, say) would make every pair of them a candidate of the
+  // association: thousands of frames would take gigabytes instead of an error.
+  for (std::size_t i = 1; i < entries.size(); ++i) {
+    if (entries[i].t == entries[i - 1].t) {
+      throw ParseError(file.string(), entries[i].line, "timestamp " + FormatTimestamp(entries[i].t) +
+                                                           " repeats that of line " + std::to_string(entries[i - 1].line));
+    }
+  }
   return entries;
 }
 

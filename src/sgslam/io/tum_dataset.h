@@ -35,7 +35,8 @@ struct RgbdImages {
 class TumDataset {
  public:
   // Throws InputError naming the folder or file: missing folder or list file,
-  // malformed line (file:line), empty sequence.
+  // malformed line or a time rgb.txt or depth.txt lists twice (file:line), empty
+  // sequence.
   TumDataset(const std::filesystem::path& dir, const DatasetConfig& config);
 
   const std::filesystem::path& dir() const { return dir_; }

@@ -42,6 +42,7 @@ void CheckCount(std::uint64_t n, std::size_t bytes, bool arithmetic) {
 
 // std::vector and std::string for cereal, as its own (types/vector.hpp,
 // types/string.hpp), with CheckCount before allocating; this file includes neither.
+// And bool, checked.
 namespace cereal {
 template <class Archive, class T, class A>
 void CEREAL_SAVE_FUNCTION_NAME(Archive& ar, const std::vector<T, A>& v) {
@@ -64,6 +65,14 @@ void CEREAL_LOAD_FUNCTION_NAME(Archive& ar, std::vector<T, A>& v) {
   } else {
     for (auto& x : v) ar(x);
   }
+}
+// A bool is one byte in the file; a byte other than 0 or 1 is corrupt, and copying
+// it into a bool, as cereal's own loader does, is undefined behaviour.
+inline void CEREAL_LOAD_FUNCTION_NAME(PortableBinaryInputArchive& ar, bool& b) {
+  std::uint8_t byte = 0;
+  ar(byte);
+  if (byte > 1) throw Exception("a true/false byte of value " + std::to_string(byte));
+  b = byte == 1;
 }
 template <class Archive>
 void CEREAL_SAVE_FUNCTION_NAME(Archive& ar, const std::string& s) {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -54,6 +55,10 @@ Vocabulary::Vocabulary(int branching, int levels, std::uint64_t training_images,
                      ")");
   }
   if (nodes_.empty()) throw InputError(what + ": no nodes");
+  // A word's IDF log(N / n_i) is at most log N (float's rounding aside); a larger
+  // weight is no trained vocabulary's, and a few of them add up past float's range
+  // in Transform.
+  const double max_weight = std::log(static_cast<double>(std::max<std::uint64_t>(training_images_, 1))) * (1 + 1e-6);
   // Breadth-first: the children of node i follow those of node i - 1.
   std::size_t next = 1;
   nodes_[0].level = 0;
@@ -70,7 +75,12 @@ Vocabulary::Vocabulary(int branching, int levels, std::uint64_t training_images,
     for (std::size_t c = next; c < next + n.children; ++c) nodes_[c].level = static_cast<std::uint16_t>(n.level + 1);
     next += n.children;
     if (n.children == 0 && i > 0) {
-      if (!std::isfinite(n.weight) || n.weight < 0) throw InputError(what + ": word weight is not finite and >= 0");
+      if (!(n.weight >= 0 && n.weight <= max_weight)) {
+        char weight[32];
+        std::snprintf(weight, sizeof weight, "%g", static_cast<double>(n.weight));
+        throw InputError(what + ": node " + std::to_string(i) + " has the weight " + weight +
+                         ", outside an IDF's range [0, log(" + std::to_string(training_images_) + " training images)]");
+      }
       n.word = static_cast<WordId>(words_.size());
       words_.push_back(static_cast<NodeId>(i));
     }

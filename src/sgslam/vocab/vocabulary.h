@@ -45,7 +45,8 @@ class Vocabulary {
 
   Vocabulary() = default;
   // nodes: breadth-first, the root first, each node's children contiguous (the
-  // file order). Throws InputError naming `what` when the tree is inconsistent.
+  // file order). Throws InputError naming `what` when the tree is inconsistent or a
+  // word's weight is not an IDF (in [0, log training_images]).
   Vocabulary(int branching, int levels, std::uint64_t training_images, std::vector<Node> nodes,
              const std::string& what = "vocabulary");
 
