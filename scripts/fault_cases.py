@@ -182,7 +182,7 @@ stop_case(SIG.SIGHUP, False)
 
 
 @case("png-60000-frame26", "frame 26's RGB a PNG whose header claims 60000x60000 pixels (#37)", 1,
-      r"cannot read image", short=True)
+      r"60000x60000", short=True)
 def _(t):
     ds = t.dataset()
     target = frame_file(t, ds, "rgb", 26)
@@ -257,7 +257,8 @@ def millimetre_depth(t, ds, frames):
 
 
 @case("depth-millimetres", "depth in millimetres read with the TUM factor 5000 (#37; median 3.6 m read as 0.71 m)",
-      (0, 1), r"depth_factor|depth scale", xfail="depth-scale check being changed on main")
+      (0, 1), r"depth_factor|depth scale",
+      xfail="not caught: this deep synthetic room read 5x too near (0.71 m) lies where real rooms do")
 def _(t):
     ds = t.dataset()
     millimetre_depth(t, ds, 8)
@@ -265,7 +266,7 @@ def _(t):
 
 
 @case("depth-factor-1000", "camera.depth_factor: 1000 on depth scaled by 5000 (median 3.6 m read as 17.8 m)",
-      (0, 1), r"depth_factor|depth scale", short=True, xfail="depth-scale check being changed on main")
+      1, r"median depth of 1[78].* m with camera\.depth_factor = 1000.*it would be 3\.\d m", short=True)
 def _(t):
     ds = t.dataset()
     edit(os.path.join(ds, "sgslam.yaml"), r"^  depth_factor: .*$", "  depth_factor: 1000.0")
@@ -286,8 +287,8 @@ def _(t):
     t.run(ds, "--max-frames", 14, frames=(14, 14))
 
 
-@case("jpeg-truncated", "frame 10's RGB a JPEG cut after 300 bytes of its 1200 of data (#37)", 1, r"\.jpg",
-      short=True, xfail="truncated-JPEG check being made on main")
+@case("jpeg-truncated", "frame 10's RGB a JPEG cut after 300 bytes of its 1200 of data (#37)", 1,
+      r"\.jpg is cut short", short=True)
 def _(t):
     ds = t.dataset()
     whole = files.jpeg_grey(640, 480)
@@ -315,7 +316,7 @@ def _(t):
 
 
 @case("png-huge-true", "frame 5's RGB a true black 20000x15000 PNG, 1 MB on disk, 900 MB decoded (#37)", 1,
-      xfail="image headers checked before decoding on main", timeout=180)
+      timeout=180)
 def _(t):
     huge_png_case(t, lambda p: files.png_zeros_streamed(p, 20000, 15000))
 
