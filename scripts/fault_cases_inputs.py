@@ -74,7 +74,7 @@ def _(t):
     t.run(ds, "--max-frames", 8, frames=(8, 8))
 
 
-@case("rgb-list-outside", "frame 3's RGB listed as ../../../../../../etc/passwd", 1, r"cannot read image.*passwd")
+@case("rgb-list-outside", "frame 3's RGB listed as ../../../../../../etc/passwd", 1, r"passwd")
 def _(t):
     ds = t.dataset()
     edit(os.path.join(ds, "rgb.txt"), re.escape(t.suite.rgb[3]), "../../../../../../etc/passwd")
@@ -116,21 +116,21 @@ def _(t):
     t.run(ds, "--max-frames", 24, frames=(20, 20))
 
 
-@case("depth-8bit", "frame 10's depth an 8-bit PNG", 1, r"8-bit 1-channel; expected a 16-bit")
+@case("depth-8bit", "frame 10's depth an 8-bit PNG", 1, r"depth/\S+\.png.*16-bit")
 def _(t):
     ds = t.dataset()
     replace_file(frame_file(t, ds, "depth", 10), files.png_bytes(640, 480, 8, 0, 100))
     t.run(ds, "--max-frames", 12, frames=(10, 10))
 
 
-@case("rgb-16bit", "frame 10's RGB a 16-bit PNG", 1, r"16-bit 3-channel; expected 8-bit colour")
+@case("rgb-16bit", "frame 10's RGB a 16-bit PNG", 1, r"rgb/\S+\.png.*8-bit")
 def _(t):
     ds = t.dataset()
     replace_file(frame_file(t, ds, "rgb", 10), files.png_bytes(640, 480, 16, 2, 30000))
     t.run(ds, "--max-frames", 12, frames=(10, 10))
 
 
-@case("depth-size-differs", "frame 5's depth 320x240 beside a 640x480 RGB", 1, r"sizes differ")
+@case("depth-size-differs", "frame 5's depth 320x240 beside a 640x480 RGB", 1, r"320x240")
 def _(t):
     ds = t.dataset()
     replace_file(frame_file(t, ds, "depth", 5), files.png_bytes(320, 240, 16, 0, 10000))
@@ -146,7 +146,7 @@ def _(t):
     t.run(ds, frames=(0, 0))
 
 
-@case("image-empty", "frame 7's RGB an empty file", 1, r"cannot read image.*rgb/")
+@case("image-empty", "frame 7's RGB an empty file", 1, r"rgb/\S+\.png")
 def _(t):
     ds = t.dataset()
     replace_file(frame_file(t, ds, "rgb", 7), b"")
