@@ -1,6 +1,7 @@
 #include "fuzz_support.h"
 
 #include <spdlog/spdlog.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <cstdlib>
@@ -17,12 +18,19 @@ namespace {
 bool g_accepted = false;
 std::string g_refusal;
 
+// $TMPDIR, else memory (/dev/shm) where there is some: on a disk, rewriting the
+// same files thousands of times a second waits for the disk (ext4 flushes a file
+// truncated and written again).
+std::string Base() {
+  if (const char* tmp = std::getenv("TMPDIR"); tmp && *tmp) return tmp;
+  return access("/dev/shm", W_OK | X_OK) == 0 ? "/dev/shm" : "/tmp";
+}
+
 class Scratch {
  public:
   Scratch() {
     spdlog::set_level(spdlog::level::off);  // the parsers' warnings (an unknown key ignored) would flood the log
-    const char* tmp = std::getenv("TMPDIR");
-    std::string pattern = std::string(tmp && *tmp ? tmp : "/tmp") + "/sgslam-fuzz-XXXXXX";
+    std::string pattern = Base() + "/sgslam-fuzz-XXXXXX";
     if (!mkdtemp(pattern.data())) {
       std::perror(("cannot create a scratch folder " + pattern).c_str());
       std::abort();
@@ -50,7 +58,9 @@ const fs::path& ScratchDir() {
 
 fs::path WriteScratch(const std::string& name, std::string_view bytes) {
   const fs::path path = ScratchDir() / name;
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  std::error_code ec;
+  fs::remove(path, ec);  // a new file, not one truncated (see Base)
+  std::ofstream out(path, std::ios::binary);
   out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   if (!out.flush()) {
     std::fprintf(stderr, "fuzz: cannot write %s\n", path.c_str());

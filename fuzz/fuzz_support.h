@@ -19,8 +19,8 @@ inline std::string_view Bytes(const std::uint8_t* data, std::size_t size) {
   return {reinterpret_cast<const char*>(data), size};
 }
 
-// A folder made once per process (mkdtemp under $TMPDIR, else /tmp), removed at
-// exit. Making it also turns the library's log off.
+// A folder made once per process (mkdtemp under $TMPDIR, else /dev/shm, else /tmp),
+// removed at exit. Making it also turns the library's log off.
 const std::filesystem::path& ScratchDir();
 
 // Writes bytes to ScratchDir() / name, replacing what was there; returns the path.

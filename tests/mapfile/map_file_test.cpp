@@ -188,6 +188,21 @@ std::string FileOf(const std::string& payload) {
   return file + payload;
 }
 
+// An undistorted keypoint at -4e27 px passed as finite, and the feature grid cast its
+// cell to int (undefined behaviour, reported by UBSan in RestoreMap). Found by the
+// map fuzz target.
+TEST(MapFile, AKeypointFarOutsideAnyImageIsRefused) {
+  const MapData good = ReadMapFile(Mapped().map);
+  for (const float v : {-4e27f, 2e6f}) {
+    MapData d = good;
+    d.keyframes.back().keys_un.front()[1] = v;
+    EXPECT_NE(DecodeError(Encode(d)).find("keypoint 0 is out of range"), std::string::npos) << v;
+    d = good;
+    d.keyframes.back().keys.front().x = v;
+    EXPECT_NE(DecodeError(Encode(d)).find("keypoint 0 is out of range"), std::string::npos) << v;
+  }
+}
+
 // A count no file could hold is refused before anything is allocated for it.
 TEST(MapFile, AHugeCountIsRefusedNotAllocated) {
   std::string payload(1, '\x01');  // the portable archive's byte order flag

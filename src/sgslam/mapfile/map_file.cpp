@@ -249,6 +249,10 @@ bool AllFinite(const C& c) {
   return std::all_of(c.begin(), c.end(), [](auto v) { return std::isfinite(v); });
 }
 
+// A keypoint's coordinate (px) within 1e6 of 0, and so finite: far beyond any
+// image, and far inside int's range, to which the feature grid casts its cell.
+bool PixelInRange(float v) { return std::abs(v) <= 1e6f; }
+
 // The checks of one keyframe's own arrays; "" when they are consistent.
 std::string CheckKeyFrameArrays(const KeyFrameData& k, int levels) {
   const std::size_t n = k.keys.size();
@@ -262,8 +266,9 @@ std::string CheckKeyFrameArrays(const KeyFrameData& k, int levels) {
   for (std::size_t i = 0; i < n; ++i) {
     const KeyPointData& p = k.keys[i];
     // Matching bins the angle (0-360 degrees) and indexes the pyramid by octave.
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !AllFinite(k.keys_un[i]) || p.octave < 0 || p.octave >= levels ||
-        !(p.angle >= 0 && p.angle < 360) || !std::isfinite(p.size) || !std::isfinite(p.response)) {
+    if (!PixelInRange(p.x) || !PixelInRange(p.y) || !PixelInRange(k.keys_un[i][0]) || !PixelInRange(k.keys_un[i][1]) ||
+        p.octave < 0 || p.octave >= levels || !(p.angle >= 0 && p.angle < 360) || !std::isfinite(p.size) ||
+        !std::isfinite(p.response)) {
       return "keypoint " + std::to_string(i) + " is out of range";
     }
   }

@@ -31,8 +31,9 @@ void WriteMapFile(const std::filesystem::path& path, const MapData& data);
 MapData ReadMapFile(const std::filesystem::path& path);
 
 // Every reference resolves (keyframes, points, keypoint indices, parents), every
-// per-keypoint array has one entry per keypoint, every number is finite; throws
-// InputError starting with `what` and naming the first problem.
+// per-keypoint array has one entry per keypoint, every number is finite and every
+// keypoint within 1e6 px of 0; throws InputError starting with `what` and naming
+// the first problem.
 void CheckMapData(const MapData& data, const std::string& what);
 
 // A few lines for `sgslam map info`: version, date, camera, keyframes, points,
