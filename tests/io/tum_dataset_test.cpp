@@ -149,6 +149,12 @@ TEST(ImageFile, HeadersGiveTheSizeAndTellACutFile) {
     ASSERT_TRUE(ReadImageHeader(cut));
     EXPECT_FALSE(ReadImageHeader(cut)->complete) << h->format;
   }
+  for (auto* bytes : {&png, &jpg}) {  // a trailer after the end is no cut
+    bytes->insert(bytes->end(), 100, 0xAB);
+    EXPECT_TRUE(ReadImageHeader(*bytes)->complete);
+  }
+  png.resize(png.size() - 100 - 12);  // IEND gone
+  EXPECT_FALSE(ReadImageHeader(png)->complete);
   const std::vector<std::uint8_t> text = {'P', '3', '\n'};
   EXPECT_FALSE(ReadImageHeader(text));
   EXPECT_FALSE(ReadImageHeader(std::span<const std::uint8_t>(png.data(), 12)));

@@ -17,46 +17,54 @@ std::uint32_t BigEndian(std::span<const std::uint8_t> b, std::size_t at, int n) 
   return v;
 }
 
-// Whether the last `window` bytes hold `marker`.
-bool EndsNear(std::span<const std::uint8_t> bytes, std::span<const std::uint8_t> marker, std::size_t window) {
-  const std::size_t from = bytes.size() > window ? bytes.size() - window : 0;
-  const auto tail = bytes.subspan(from);
-  return std::search(tail.begin(), tail.end(), marker.begin(), marker.end()) != tail.end();
+// Whether a PNG's chunks (length, type, data, CRC) run whole from the signature to
+// IEND; data after IEND is allowed.
+bool PngChunksComplete(std::span<const std::uint8_t> b) {
+  std::size_t at = 8;
+  while (at + 12 <= b.size()) {
+    const std::size_t length = BigEndian(b, at, 4);
+    if (b[at + 4] == 'I' && b[at + 5] == 'E' && b[at + 6] == 'N' && b[at + 7] == 'D') return true;
+    if (length > b.size() - at - 12) return false;
+    at += 12 + length;
+  }
+  return false;
 }
 
 std::optional<ImageHeader> PngHeader(std::span<const std::uint8_t> b) {
   // signature (8), then the IHDR chunk: length (4), "IHDR", width (4), height (4)
   if (b.size() < 24 || b[12] != 'I' || b[13] != 'H' || b[14] != 'D' || b[15] != 'R') return std::nullopt;
-  static constexpr std::array<std::uint8_t, 4> kIend = {'I', 'E', 'N', 'D'};
-  return ImageHeader{"PNG", BigEndian(b, 16, 4), BigEndian(b, 20, 4), EndsNear(b, kIend, 64)};
+  return ImageHeader{"PNG", BigEndian(b, 16, 4), BigEndian(b, 20, 4), PngChunksComplete(b)};
 }
 
 bool IsStartOfFrame(std::uint8_t m) { return m >= 0xC0 && m <= 0xCF && m != 0xC4 && m != 0xC8 && m != 0xCC; }
 
+// Walks a JPEG's segments to its first scan. Entropy-coded data never holds FF D9
+// (an FF there is followed by 00 or a restart marker), so the image is whole when an
+// EOI follows its first scan; data after it (a camera's trailer) is allowed.
 std::optional<ImageHeader> JpegHeader(std::span<const std::uint8_t> b) {
   static constexpr std::array<std::uint8_t, 2> kEoi = {0xFF, 0xD9};
+  std::optional<ImageHeader> header;
   std::size_t at = 2;  // after SOI
-  while (at + 4 <= b.size()) {
-    if (b[at] != 0xFF) return std::nullopt;
+  while (at + 4 <= b.size() && b[at] == 0xFF) {
     const std::uint8_t m = b[at + 1];
-    if (m == 0xFF) {  // fill byte
-      ++at;
+    if (m == 0xFF || m == 0x01 || (m >= 0xD0 && m <= 0xD7)) {  // fill byte, markers without a segment
+      at += m == 0xFF ? 1 : 2;
       continue;
     }
-    if (m == 0x01 || (m >= 0xD0 && m <= 0xD7)) {  // markers without a segment
-      at += 2;
-      continue;
+    if (m == 0xD9) break;  // the end before any scan
+    if (IsStartOfFrame(m) && at + 9 <= b.size()) {  // length (2), precision (1), height (2), width (2)
+      header = ImageHeader{"JPEG", BigEndian(b, at + 7, 2), BigEndian(b, at + 5, 2), false};
     }
-    if (m == 0xDA || m == 0xD9) return std::nullopt;  // scan data before any frame header
+    if (m == 0xDA) {
+      if (header) header->complete = std::search(b.begin() + static_cast<std::ptrdiff_t>(at), b.end(), kEoi.begin(),
+                                                 kEoi.end()) != b.end();
+      break;
+    }
     const std::size_t length = BigEndian(b, at + 2, 2);
-    if (IsStartOfFrame(m)) {
-      if (at + 9 > b.size()) return std::nullopt;  // precision (1), height (2), width (2)
-      return ImageHeader{"JPEG", BigEndian(b, at + 7, 2), BigEndian(b, at + 5, 2), EndsNear(b, kEoi, 64)};
-    }
-    if (length < 2) return std::nullopt;
+    if (length < 2) break;
     at += 2 + length;
   }
-  return std::nullopt;
+  return header;
 }
 
 }  // namespace

@@ -16,7 +16,9 @@ namespace sgslam {
 struct ImageHeader {
   const char* format = "";  // "PNG" or "JPEG"
   std::uint32_t width = 0, height = 0;
-  bool complete = false;  // the file ends with the format's end marker (PNG IEND, JPEG EOI)
+  // The image's data is whole: a PNG's chunks run to IEND, a JPEG's first scan is
+  // followed by EOI. Bytes after the end (a camera's trailer) are allowed.
+  bool complete = false;
 };
 
 // The header of a PNG or JPEG file held in memory; nullopt for another format or a
