@@ -92,8 +92,9 @@ std::vector<std::uint8_t> ReadFileBytes(const std::filesystem::path& path, std::
   return bytes;
 }
 
-cv::Mat DecodeImageFile(const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes, int flags) {
-  if (const auto header = ReadImageHeader(bytes); header && !header->complete) {
+cv::Mat DecodeImageFile(const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes,
+                        const std::optional<ImageHeader>& header, int flags) {
+  if (header && !header->complete) {
     throw InputError("image " + path.string() + " is cut short (a " + header->format +
                      " file without its end marker)");
   }

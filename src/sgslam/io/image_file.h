@@ -29,8 +29,10 @@ std::optional<ImageHeader> ReadImageHeader(std::span<const std::uint8_t> bytes);
 // than max_bytes.
 std::vector<std::uint8_t> ReadFileBytes(const std::filesystem::path& path, std::uintmax_t max_bytes);
 
-// Decodes an image file held in memory (cv::IMREAD_* flags). A PNG or JPEG cut
-// short is refused; every failure is an InputError naming the file.
-cv::Mat DecodeImageFile(const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes, int flags);
+// Decodes an image file held in memory (cv::IMREAD_* flags); header is what
+// ReadImageHeader gave for these bytes. A PNG or JPEG cut short is refused; every
+// failure is an InputError naming the file.
+cv::Mat DecodeImageFile(const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes,
+                        const std::optional<ImageHeader>& header, int flags);
 
 }  // namespace sgslam

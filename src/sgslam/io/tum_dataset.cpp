@@ -149,8 +149,8 @@ RgbdImages TumDataset::Load(std::size_t i, const CameraConfig& camera) const {
   RgbdImages out;
   out.index = i;
   out.t = r.t_rgb;
-  out.bgr = DecodeImageFile(r.rgb, rgb_bytes, cv::IMREAD_UNCHANGED);
-  out.depth = DecodeImageFile(r.depth, depth_bytes, cv::IMREAD_UNCHANGED);
+  out.bgr = DecodeImageFile(r.rgb, rgb_bytes, rgb_header, cv::IMREAD_UNCHANGED);
+  out.depth = DecodeImageFile(r.depth, depth_bytes, depth_header, cv::IMREAD_UNCHANGED);
   if (out.depth.type() != CV_16UC1) {
     throw InputError("depth image " + r.depth.string() + " is " + Describe(out.depth) +
                      "; expected a 16-bit single-channel PNG");
