@@ -26,14 +26,11 @@ double Percentile(std::vector<double> values, double q) {
   return values[static_cast<std::size_t>(k)];
 }
 
-namespace {
-
-// A "Key: value kB" field of /proc/self/status in MiB, 0 when unknown.
-double StatusMiB(const char* field) {
+double PeakRssMiB() {
   std::ifstream status("/proc/self/status");
   std::string key;
   while (status >> key) {
-    if (key == field) {
+    if (key == "VmHWM:") {
       double kib = 0;
       status >> kib;
       return kib / 1024.0;
@@ -42,10 +39,6 @@ double StatusMiB(const char* field) {
   }
   return 0.0;
 }
-
-}  // namespace
-
-double PeakRssMiB() { return StatusMiB("VmHWM:"); }
 
 double RssMiB() {
   std::ifstream statm("/proc/self/statm");  // pages: total, resident, ...
