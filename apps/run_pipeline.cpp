@@ -16,6 +16,7 @@
 #include "sgslam/common/stats.h"
 #include "sgslam/config/yaml_io.h"
 #include "sgslam/detection/detector.h"
+#include "sgslam/detection/people_scale.h"
 #include "sgslam/eval/ate.h"
 #include "sgslam/io/frame_stream.h"
 #include "sgslam/io/ply.h"
@@ -81,6 +82,10 @@ fs::path MakeOutputFolder(const RunOptions& o, const TumDataset& dataset) {
   std::error_code ec;
   fs::create_directories(out, ec);
   if (ec || !fs::is_directory(out)) throw InputError("cannot create output folder " + out.string());
+  if (fs::equivalent(out, dataset.dir(), ec)) {
+    throw InputError("--out " + out.string() + " is the dataset folder: the run's outputs (detections.txt among "
+                     "them) would replace the sequence's own files; choose another folder");
+  }
   return out;
 }
 
@@ -107,6 +112,7 @@ struct FrameLoop {
   std::vector<FrameReport> reports;
   std::string failure;  // the error that ended the loop early, after some frames
   int stopped_by = 0;   // the signal that ended it early
+  PeopleScaleCheck people;  // the depth scale by the size of detected people
 };
 
 // Streams the dataset through the system: the frames at their timestamps' pace
@@ -130,6 +136,7 @@ FrameLoop RunFrames(const RunOptions& o, const TumDataset& dataset, const Config
         }
       }
       FrameReport& r = loop.reports.emplace_back(system.Process(*frame));
+      if (const auto warning = loop.people.Add(frame->depth, r.boxes, config.camera)) spdlog::warn("{}", *warning);
       truth.AddFrame(r);
       // Keep the per-frame record small: swapped out, as `= {}` keeps the capacity.
       std::vector<cv::Point2f>().swap(r.keypoints);
@@ -209,6 +216,11 @@ nlohmann::json RunStats(const RunOptions& o, const Config& config, const TumData
     stats["final_ba"] = {{"ms", gba->ms}, {"keyframes", gba->local_keyframes}, {"points", gba->local_points}};
   }
   AddAte(dataset, trajectory, s, stats);
+  if (const auto h = loop.people.median_height()) {
+    stats["dynamic"]["people_measured"] = loop.people.measured();
+    stats["dynamic"]["people_median_height_m"] = *h;
+    stats["dynamic"]["people_tallest_m"] = *loop.people.tallest();
+  }
   if (!o.load_map.empty() || !o.save_map.empty()) {
     stats["map_file"] = {{"loaded", o.load_map}, {"localize", o.localize}, {"saved", o.save_map},
                          {"saves", system.maps_saved()}};

@@ -217,7 +217,7 @@ def _(t):
     t.run(t.dataset(), "--max-frames", 8)
 
 
-@case("out-is-dataset", "--out the dataset folder itself", 0)
+@case("out-is-dataset", "--out the dataset folder itself", 1, r"is the dataset folder")
 def _(t):
     ds = t.dataset()
     inputs = ("rgb.txt", "depth.txt", "groundtruth.txt", "sgslam.yaml", "mask.txt", "detections.txt")
@@ -226,7 +226,7 @@ def _(t):
     t.sgslam("run", "--dataset", ds, "--out", ds, "--max-frames", 8)
     changed = [n for n in inputs if open(os.path.join(ds, n), "rb").read() != before[n]]
     if changed:
-        t.notes.append("inputs replaced by outputs of the same name: " + ", ".join(changed))
+        t.problem("inputs", "inputs replaced by outputs of the same name: " + ", ".join(changed))
 
 
 @case("disk-full", "file size limit of 150 KB, writes past it failing (EFBIG, as a full disk)", 1,

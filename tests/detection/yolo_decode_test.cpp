@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 namespace sgslam {
 namespace {
 
@@ -51,6 +53,20 @@ TEST(YoloDecode, ClipsBoxesToTheImage) {
   EXPECT_NEAR(d[0].box.width, 10, 1e-4);
   EXPECT_NEAR(d[0].box.y, 170, 1e-3);
   EXPECT_NEAR(d[0].box.y + d[0].box.height, 200, 1e-3);
+}
+
+TEST(YoloDecode, IgnoresRowsThatAreNotNumbersOrNotBoxes) {
+  const float nan = std::numeric_limits<float>::quiet_NaN(), inf = std::numeric_limits<float>::infinity();
+  cv::Mat out;
+  AddRow(out, nan, 0.5f, 0.2f, 0.2f, {0.9f, 0.f, 0.f});
+  AddRow(out, 0.5f, 0.5f, inf, 0.2f, {0.9f, 0.f, 0.f});
+  AddRow(out, 0.5f, 0.5f, -0.2f, 0.2f, {0.9f, 0.f, 0.f});  // a negative width
+  AddRow(out, 0.5f, 0.5f, 0.2f, 0.2f, {nan, 0.f, 0.f});
+  AddRow(out, 0.5f, 0.5f, 0.2f, 0.2f, {0.f, 7.f, 0.f});     // a score above 1
+  AddRow(out, 0.3f, 0.3f, 0.2f, 0.2f, {0.f, 0.f, 0.9f});    // the one good box
+  const auto d = DecodeYoloOutputs({out}, cv::Size(100, 100), kNames, YoloDecodeParams{});
+  ASSERT_EQ(d.size(), 1u);
+  EXPECT_EQ(d[0].class_name, "car");
 }
 
 TEST(YoloDecode, IgnoresOutputsOfTheWrongShape) {

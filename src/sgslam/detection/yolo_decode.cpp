@@ -1,6 +1,7 @@
 #include "sgslam/detection/yolo_decode.h"
 
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <opencv2/dnn/dnn.hpp>
 
@@ -24,9 +25,11 @@ std::vector<Detection> DecodeYoloOutputs(const std::vector<cv::Mat>& outputs, cv
     if (out.empty() || out.dims != 2 || out.type() != CV_32F || out.cols < 5 + classes) continue;
     for (int r = 0; r < out.rows; ++r) {
       const float* row = out.ptr<float>(r);
+      // A broken model or weights file may give NaN or infinite outputs: such a row is no box.
+      if (!std::all_of(row, row + 4, [](float v) { return std::isfinite(v); }) || !(row[2] > 0) || !(row[3] > 0)) continue;
       for (int c = 0; c < classes; ++c) {
         const float score = row[5 + c];
-        if (score < min_score) continue;
+        if (!(score >= min_score) || !(score <= 1.f)) continue;  // NaN fails both
         const float threshold = class_names[static_cast<std::size_t>(c)] == "person" ? params.person_score_threshold
                                                                                      : params.score_threshold;
         if (score < threshold) continue;

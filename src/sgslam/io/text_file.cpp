@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cstring>
 
+#include <atomic>
 #include <charconv>
 #include <cmath>
 #include <fstream>
@@ -30,6 +31,9 @@ void ForEachDataLine(const fs::path& path,
   while (std::getline(in, line)) {
     ++number;
     if (!line.empty() && line.back() == '\r') line.pop_back();  // files written on Windows
+    if (line.find('\0') != std::string::npos) {  // a path would end at it and name another file
+      throw ParseError(path.string(), number, "a NUL byte in the line (a binary file, or a corrupted one?)");
+    }
     tokens.clear();
     std::size_t i = 0;
     while (i < line.size()) {
@@ -80,31 +84,74 @@ bool WriteAll(int fd, const std::string& content) {
   return true;
 }
 
+struct TempFile {
+  int fd = -1;
+  std::string name;  // empty while the file is unnamed (O_TMPFILE)
+};
+
+// The file being written, unnamed where the file system allows (O_TMPFILE): a run
+// killed while writing (SIGKILL, a power cut) then leaves nothing behind. Else a
+// fresh name created exclusively, so that a file or link planted under a fixed
+// temporary name is never written through.
+TempFile OpenTempFile(const fs::path& path, const fs::path& dir) {
+  TempFile tmp;
+  if (access("/proc/self/fd", X_OK) == 0) {  // the way to name it afterwards
+    tmp.fd = open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);  // the umask applies
+    if (tmp.fd >= 0) return tmp;
+  }
+  tmp.name = path.string() + ".tmp.XXXXXX";
+  tmp.fd = mkostemp(tmp.name.data(), O_CLOEXEC);
+  if (tmp.fd < 0) throw InputError("cannot write file: " + path.string() + ": " + std::strerror(errno));
+  if (fchmod(tmp.fd, 0666 & ~CurrentUmask()) != 0) {  // as an ordinary new file (mkstemp makes it 0600)
+    const std::string why = std::strerror(errno);
+    close(tmp.fd);
+    std::error_code ec;
+    fs::remove(tmp.name, ec);
+    throw InputError("cannot write file: " + path.string() + ": " + why);
+  }
+  return tmp;
+}
+
+// Gives the written, unnamed file a fresh name beside path (linkat does not replace
+// a file, so the rename that follows is what replaces the old one atomically).
+bool LinkUnderTempName(TempFile& tmp, const fs::path& path) {
+  static std::atomic<unsigned> counter{0};
+  const std::string proc = "/proc/self/fd/" + std::to_string(tmp.fd);
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    const std::string name = path.string() + ".tmp." + std::to_string(getpid()) + "." + std::to_string(counter++);
+    if (linkat(AT_FDCWD, proc.c_str(), AT_FDCWD, name.c_str(), AT_SYMLINK_FOLLOW) == 0) {
+      tmp.name = name;
+      return true;
+    }
+    if (errno != EEXIST) return false;
+  }
+  return false;
+}
+
 }  // namespace
 
 void WriteFileAtomically(const fs::path& path, const std::string& content) {
   std::error_code ec;
   const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
   fs::create_directories(dir, ec);
-  // A fresh name created exclusively: a file or link planted under a fixed
-  // temporary name is never written through.
-  std::string tmp = path.string() + ".tmp.XXXXXX";
-  const int fd = mkostemp(tmp.data(), O_CLOEXEC);
-  if (fd < 0) throw InputError("cannot write file: " + path.string() + ": " + std::strerror(errno));
+  TempFile tmp = OpenTempFile(path, dir);
   // Complete on disk before it replaces the old file (a power cut leaves one of the two).
-  bool ok = WriteAll(fd, content) && fsync(fd) == 0;
-  const std::string why = ok ? "" : std::strerror(errno);
-  ok = fchmod(fd, 0666 & ~CurrentUmask()) == 0 && ok;  // as an ordinary new file (mkstemp makes it 0600)
-  if (close(fd) != 0) ok = false;
+  bool ok = WriteAll(tmp.fd, content) && fsync(tmp.fd) == 0;
+  std::string why = ok ? "" : std::strerror(errno);
+  if (ok && tmp.name.empty() && !LinkUnderTempName(tmp, path)) {
+    ok = false;
+    why = std::strerror(errno);
+  }
+  if (close(tmp.fd) != 0) ok = false;
   if (!ok) {
-    fs::remove(tmp, ec);
+    if (!tmp.name.empty()) fs::remove(tmp.name, ec);
     throw InputError("error while writing file (disk full?): " + path.string() + (why.empty() ? "" : ": " + why));
   }
-  fs::rename(tmp, path, ec);
+  fs::rename(tmp.name, path, ec);
   if (ec) {
     std::error_code ignored;
-    fs::remove(tmp, ignored);
-    throw InputError("cannot rename " + tmp + " to " + path.string() + ": " + ec.message());
+    fs::remove(tmp.name, ignored);
+    throw InputError("cannot rename " + tmp.name + " to " + path.string() + ": " + ec.message());
   }
   if (const int d = open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); d >= 0) {
     fsync(d);  // the rename itself

@@ -1,0 +1,153 @@
+#!/usr/bin/env python3
+"""Speed benchmark: `sgslam run` in several modes on the same sequences, alternated
+(mode order rotated every repeat) so that a shared machine's noise falls on all of
+them alike, and the medians over the repeats as a Markdown table.
+
+  scripts/speed.sh [--modes none,sg] [--sequences tum_fr1_rpy,dyn_dev,walkers:1]
+                   [--repeats 3] [--realtime] [--sgslam build/sgslam] [--work DIR]
+                   [--markdown FILE] [-- more options for sgslam run]
+
+A sequence is a folder, a folder under the shared data ($SGSLAM_SHARED_DIR/data or
+../shared/data), or PRESET[:SEED] for a generated one (rendered once into --work).
+Per run: end-to-end fps (frames over the run's wall time, stats.json), the median
+frame ms on the tracking thread, CPU ms a frame (user+sys of the whole process over
+its frames: less noisy than wall time on a shared machine), peak RSS and the ATE;
+with --realtime also the frames dropped and the latency from frame time to pose
+(median and 95th percentile) when stats.json reports them. The table gives the
+medians over the repeats, and the ratio of each mode's CPU ms a frame to the first
+mode's."""
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
+
+
+def shared_data():
+    env = os.environ.get("SGSLAM_SHARED_DIR")
+    return os.path.join(env, "data") if env else os.path.join(ROOT, "..", "shared", "data")
+
+
+def resolve(sgslam, name, work):
+    """The sequence folder for a name: a folder, a shared one, or a rendered preset."""
+    if os.path.isdir(name):
+        return os.path.abspath(name)
+    shared = os.path.join(shared_data(), name)
+    if os.path.isdir(shared):
+        return os.path.abspath(shared)
+    preset, _, seed = name.partition(":")
+    if preset in ("static", "walkers", "objects", "rpy", "loop", "repeat", "degenerate"):
+        out = os.path.join(work, f"{preset}-{seed or 1}")
+        if not os.path.exists(os.path.join(out, "rgb.txt")):
+            r = subprocess.run([sgslam, "-q", "synth", "--preset", preset, "--seed", seed or "1", "--out", out,
+                                "--force"], text=True, stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+            if r.returncode != 0:
+                sys.exit(f"speed: sgslam synth --preset {preset} failed ({r.returncode}):\n{r.stdout[-2000:]}")
+        return out
+    sys.exit(f"speed: sequence '{name}' is not a folder, not in {shared_data()}, and not a synth preset")
+
+
+def run_once(sgslam, dataset, mode, out, realtime, extra):
+    cmd = [sgslam, "-q", "run", "--dataset", dataset, "--mode", mode, "--out", out] + (["--realtime"] if realtime else [])
+    cmd += extra
+    start = time.monotonic()
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
+    output = proc.stdout.read()
+    _, status, usage = os.wait4(proc.pid, 0)
+    proc.returncode = os.waitstatus_to_exitcode(status)
+    wall = time.monotonic() - start
+    if proc.returncode != 0:
+        sys.exit(f"speed: {' '.join(cmd)} failed ({proc.returncode}):\n{output[-3000:]}")
+    with open(os.path.join(out, "stats.json"), encoding="utf-8") as f:
+        stats = json.load(f)
+    frames = max(1, stats["frames"])
+    row = {
+        "fps": stats["fps"],
+        "frame_ms": stats["median_ms"]["frame"],
+        "cpu_ms": 1000.0 * (usage.ru_utime + usage.ru_stime) / frames,
+        "rss": stats["peak_rss_mib"],
+        "ate": stats.get("ate", {}).get("rmse"),
+        "wall": wall,
+    }
+    live = stats.get("live")
+    if live:
+        row["dropped"] = live.get("dropped")
+        row["latency_ms"] = live.get("median_latency_ms")
+        row["latency95_ms"] = live.get("p95_latency_ms")
+    return row
+
+
+def median(values):
+    values = [v for v in values if v is not None]
+    return statistics.median(values) if values else None
+
+
+def fmt(v, digits):
+    return "-" if v is None else f"{v:.{digits}f}"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--modes", default="none,sg")
+    ap.add_argument("--sequences", default="tum_fr1_rpy,dyn_dev,walkers:1")
+    ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--realtime", action="store_true")
+    ap.add_argument("--sgslam", default=os.path.join(ROOT, "build", "sgslam"))
+    ap.add_argument("--work", help="scratch folder (default: a temporary one, removed)")
+    ap.add_argument("--markdown", help="also write the table to this file")
+    ap.add_argument("extra", nargs="*", help="after --: options for sgslam run")
+    a = ap.parse_args()
+    if not os.access(a.sgslam, os.X_OK):
+        sys.exit(f"speed: no sgslam binary at {a.sgslam} (build first, or --sgslam PATH)")
+    if a.repeats < 1:
+        sys.exit("speed: --repeats must be at least 1")
+    modes = [m for m in a.modes.split(",") if m]
+    tmp = None if a.work else tempfile.TemporaryDirectory(prefix="sgslam-speed.")
+    work = a.work or tmp.name
+    os.makedirs(work, exist_ok=True)
+    sequences = [(name, resolve(a.sgslam, name, work)) for name in a.sequences.split(",") if name]
+    runs = {}
+    for rep in range(a.repeats):
+        for name, path in sequences:
+            order = modes[rep % len(modes):] + modes[:rep % len(modes)]
+            for mode in order:
+                row = run_once(a.sgslam, path, mode, os.path.join(work, "out"), a.realtime, a.extra)
+                runs.setdefault((name, mode), []).append(row)
+                print(f"speed: {name} {mode} #{rep + 1}: {row['fps']:.1f} fps, {row['cpu_ms']:.1f} CPU ms/frame, "
+                      f"ATE {fmt(row['ate'], 4)}", file=sys.stderr, flush=True)
+    head = ("| sequence | mode | fps | frame ms | CPU ms/frame | CPU ratio | peak MiB | ATE m |"
+            + (" dropped | latency ms (median / p95) |" if a.realtime else ""))
+    lines = [head, "|" + "---|" * (head.count("|") - 1)]
+    for name, _ in sequences:
+        base = median(r["cpu_ms"] for r in runs[(name, modes[0])])
+        for mode in modes:
+            rs = runs[(name, mode)]
+            cpu = median(r["cpu_ms"] for r in rs)
+            line = (f"| {name} | {mode} | {fmt(median(r['fps'] for r in rs), 1)} | "
+                    f"{fmt(median(r['frame_ms'] for r in rs), 1)} | {fmt(cpu, 1)} | "
+                    f"{fmt(cpu / base if base else None, 2)} | {fmt(median(r['rss'] for r in rs), 0)} | "
+                    f"{fmt(median(r['ate'] for r in rs), 4)} |")
+            if a.realtime:
+                line += (f" {fmt(median(r.get('dropped') for r in rs), 0)} | "
+                         f"{fmt(median(r.get('latency_ms') for r in rs), 1)} / "
+                         f"{fmt(median(r.get('latency95_ms') for r in rs), 1)} |")
+            lines.append(line)
+    table = "\n".join(lines)
+    note = (f"\nMedians of {a.repeats} alternated runs, {time.strftime('%Y-%m-%d')}, "
+            f"`scripts/speed.sh --modes {a.modes} --sequences {a.sequences} --repeats {a.repeats}"
+            f"{' --realtime' if a.realtime else ''}{' -- ' + ' '.join(a.extra) if a.extra else ''}`; "
+            f"CPU ratio: CPU ms a frame over {modes[0]}'s.")
+    print(table + "\n" + note)
+    if a.markdown:
+        with open(a.markdown, "w", encoding="utf-8") as f:
+            f.write(table + "\n" + note + "\n")
+
+
+if __name__ == "__main__":
+    main()
