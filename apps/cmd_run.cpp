@@ -40,8 +40,12 @@ Action AddRunCommand(CLI::App& root) {
   cmd->add_flag("--no-detector", o->no_detector, "Run without the object detector (geometry only)");
   cmd->add_option("--max-frames", o->max_frames, "Stop after N frames (0: all)")->check(CLI::NonNegativeNumber)->check(kCount64);
   cmd->add_flag("--sequential", o->sequential, "Step every module in one thread (deterministic output)");
-  cmd->add_flag("--realtime", o->realtime,
-                "Hand frames over at the pace of their timestamps, like a live camera (default: as fast as they load)");
+  CLI::Option* realtime = cmd->add_flag("--realtime", o->realtime,
+                "Hand frames over at the pace of their timestamps, like a live camera (default: as fast as they load); "
+                "a frame that arrives while the system is busy is replaced by the next one (dropped)");
+  cmd->add_flag("--every-frame", o->every_frame,
+                "With --realtime: process every frame, late or not (none dropped; the delay may grow)")
+      ->needs(realtime);
   CLI::Option* load = cmd->add_option("--load-map", o->load_map, "Start from the map saved in FILE (--save-map) and extend it")
       ->check(CLI::ExistingFile);
   cmd->add_flag("--localize", o->localize,

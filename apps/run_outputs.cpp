@@ -28,11 +28,11 @@ nlohmann::json MedianOf(const std::vector<FrameReport>& reports, double FrameRep
 void WriteFramesCsv(const std::filesystem::path& path, const std::vector<FrameReport>& reports) {
   std::ostringstream csv;
   csv << "index,timestamp,state,features,kept,rejected_geometry,rejected_semantics,rejected_depth,detections,"
-         "carried,detector_late,matches,inliers,trusted,keyframe,map_keyframes,map_points,rss_mib,extract_ms,detector_ms,wait_ms,reject_ms,track_ms,total_ms\n";
+         "carried,followed,detector_late,matches,inliers,trusted,keyframe,map_keyframes,map_points,rss_mib,extract_ms,detector_ms,wait_ms,reject_ms,track_ms,total_ms\n";
   for (const auto& r : reports) {
     csv << r.index << ',' << FormatTimestamp(r.t) << ',' << ToString(r.state) << ',' << r.features << ',' << r.kept
         << ',' << r.rejected_geometry << ',' << r.rejected_semantics << ',' << r.rejected_depth << ','
-        << r.detections << ',' << r.carried << ',' << (r.detector_late ? 1 : 0) << ',' << r.matches << ','
+        << r.detections << ',' << r.carried << ',' << r.followed << ',' << (r.detector_late ? 1 : 0) << ',' << r.matches << ','
         << r.inliers << ',' << r.trusted << ',' << (r.keyframe ? 1 : 0) << ',' << r.map_keyframes << ','
         << r.map_points << ',' << r.rss_mib << ',' << r.extract_ms << ','
         << r.detector_ms << ',' << r.wait_ms << ',' << r.reject_ms << ',' << r.track_ms << ',' << r.total_ms << '\n';

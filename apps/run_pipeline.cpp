@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <csignal>
@@ -113,7 +114,46 @@ struct FrameLoop {
   std::string failure;  // the error that ended the loop early, after some frames
   int stopped_by = 0;   // the signal that ended it early
   PeopleScaleCheck people;  // the depth scale by the size of detected people
+  // --realtime: frames replaced in the one-slot buffer while the system was busy,
+  // and per frame processed, ms from its arrival (its timestamp's time) to its pose.
+  std::size_t dropped = 0;
+  std::vector<double> latency_ms;
 };
+
+// --realtime's clock: a frame arrives at the time of its timestamp, counted from
+// the first frame's.
+class LiveClock {
+ public:
+  std::chrono::steady_clock::time_point Arrival(const RgbdImages& frame) {
+    if (!started_) started_ = true, t_first_ = frame.t, start_ = std::chrono::steady_clock::now();
+    return start_ + std::chrono::nanoseconds(frame.t - t_first_);
+  }
+
+ private:
+  bool started_ = false;
+  Timestamp t_first_ = 0;
+  std::chrono::steady_clock::time_point start_;
+};
+
+// The next frame to process. With --realtime: waited for until it arrives; then,
+// unless --every-frame, the frames that have arrived meanwhile replace one another
+// in the one-slot buffer, and the newest is taken (the others counted as dropped).
+// `next` is the stream's frame after the one returned (read ahead).
+std::optional<RgbdImages> TakeFrame(const RunOptions& o, FrameStream& stream, std::optional<RgbdImages>& next,
+                                    LiveClock& clock, FrameLoop& loop, std::chrono::steady_clock::time_point& arrival) {
+  std::optional<RgbdImages> frame = std::move(next);
+  next = stream.Next();
+  if (!frame || !o.realtime) return frame;
+  arrival = clock.Arrival(*frame);
+  WaitUntilOrStopped(arrival);
+  while (!o.every_frame && next && clock.Arrival(*next) <= std::chrono::steady_clock::now()) {
+    ++loop.dropped;
+    frame = std::move(next);
+    arrival = clock.Arrival(*frame);
+    next = stream.Next();
+  }
+  return frame;
+}
 
 // Streams the dataset through the system: the frames at their timestamps' pace
 // with o.realtime, the progress bar, the truth scores, Ctrl-C and SIGUSR1.
@@ -122,20 +162,21 @@ FrameLoop RunFrames(const RunOptions& o, const TumDataset& dataset, const Config
   FrameLoop loop;
   FrameStream stream(dataset, config.camera, static_cast<std::size_t>(config.dataset.prefetch), o.max_frames);
   ProgressBar progress(stream.size());
-  const auto start = std::chrono::steady_clock::now();
-  Timestamp t_first = 0;
+  LiveClock clock;
   try {
-    while (auto frame = stream.Next()) {
-      if (o.realtime) {  // wait for the frame's time; a late frame goes at once (none is dropped)
-        if (loop.reports.empty()) t_first = frame->t;
-        WaitUntilOrStopped(start + std::chrono::nanoseconds(frame->t - t_first));
-      }
+    std::optional<RgbdImages> next = stream.Next();
+    std::chrono::steady_clock::time_point arrival;
+    while (auto frame = TakeFrame(o, stream, next, clock, loop, arrival)) {
       if (loop.reports.empty()) {
         if (const auto warning = CheckDepthScale(*frame, dataset.frames()[frame->index], config.camera, config.dataset)) {
           spdlog::warn("{}", *warning);
         }
       }
       FrameReport& r = loop.reports.emplace_back(system.Process(*frame));
+      if (o.realtime) {
+        loop.latency_ms.push_back(
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - arrival).count());
+      }
       if (const auto warning = loop.people.Add(frame->depth, r.boxes, config.camera)) spdlog::warn("{}", *warning);
       truth.AddFrame(r);
       // Keep the per-frame record small: swapped out, as `= {}` keeps the capacity.
@@ -162,6 +203,9 @@ FrameLoop RunFrames(const RunOptions& o, const TumDataset& dataset, const Config
   } catch (const std::exception& e) {  // a library's own (OpenCV refusing an image, say)
     if (loop.reports.empty()) throw;
     loop.failure = std::string("unexpected failure: ") + e.what();
+  }
+  if (loop.dropped > 0) {
+    spdlog::info("--realtime: {} frames dropped (arrived while the system was busy)", loop.dropped);
   }
   return loop;
 }
@@ -216,6 +260,16 @@ nlohmann::json RunStats(const RunOptions& o, const Config& config, const TumData
     stats["final_ba"] = {{"ms", gba->ms}, {"keyframes", gba->local_keyframes}, {"points", gba->local_points}};
   }
   AddAte(dataset, trajectory, s, stats);
+  if (o.realtime) {
+    std::vector<double> sorted = loop.latency_ms;
+    std::sort(sorted.begin(), sorted.end());
+    const auto p95 = sorted.empty() ? 0.0 : sorted[std::min(sorted.size() - 1, sorted.size() * 95 / 100)];
+    stats["live"] = {{"every_frame", o.every_frame},
+                     {"dropped", loop.dropped},
+                     {"median_latency_ms", Median(loop.latency_ms)},
+                     {"p95_latency_ms", p95},
+                     {"max_latency_ms", sorted.empty() ? 0.0 : sorted.back()}};
+  }
   if (const auto h = loop.people.median_height()) {
     stats["dynamic"]["people_measured"] = loop.people.measured();
     stats["dynamic"]["people_median_height_m"] = *h;

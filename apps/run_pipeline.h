@@ -17,8 +17,11 @@ struct RunOptions {
   std::string mode;  // empty: the config's dynamic.mode (default sg)
   bool no_detector = false, sequential = false;
   // Hand frames over at the pace of their timestamps, as a live camera would
-  // (ORB-SLAM2's TUM example does the same); otherwise as fast as they load.
+  // (ORB-SLAM2's TUM example does the same); otherwise as fast as they load. A
+  // frame that arrives while the system is busy waits in a one-slot buffer, where
+  // a newer frame replaces it (dropped, counted), unless every_frame.
   bool realtime = false;
+  bool every_frame = false;
   std::size_t max_frames = 0;
   // Map reuse: the map to start from (relocalised in at the first frame), and the
   // file to save the map to at the end and on SIGUSR1.

@@ -66,14 +66,39 @@ TEST(RunCommand, RealtimePacesFramesByTheirTimestamps) {
   test::WriteTinyDataset(tmp / "seq", 10);
   std::vector<std::string> args = RunArgs(tmp);
   args.push_back("--realtime");
+  args.push_back("--every-frame");  // none dropped, however loaded the machine
   const auto r = RunSgslam(args);
   ASSERT_EQ(r.exit_code, 0) << r.output;
   std::ifstream stats_file(tmp / "out" / "stats.json");
   const auto stats = nlohmann::json::parse(stats_file);
   EXPECT_EQ(stats["realtime"], true);
   EXPECT_EQ(stats["frames"], 10);
+  EXPECT_EQ(stats["live"]["dropped"], 0);
+  EXPECT_EQ(stats["live"]["every_frame"], true);
+  EXPECT_GE(stats["live"]["p95_latency_ms"].get<double>(), stats["live"]["median_latency_ms"].get<double>());
   // fps counts from the first frame to the end: 10 frames spanning 9/30 s.
   EXPECT_LE(stats["fps"].get<double>(), 10.0 / 0.3 + 1e-6);
+}
+
+// Like a live camera, --realtime keeps one frame waiting while the system is busy,
+// and a newer frame replaces it: 12 frames 10 us apart have all arrived while the
+// first is processed, so the last one is taken next and those between are dropped.
+TEST(RunCommand, RealtimeDropsFramesThatArriveWhileTheSystemIsBusy) {
+  TempDir tmp;
+  test::WriteTinyDataset(tmp / "seq", 12, 10'000);
+  std::vector<std::string> args = RunArgs(tmp);
+  args.push_back("--realtime");
+  const auto r = RunSgslam(args);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream stats_file(tmp / "out" / "stats.json");
+  const auto stats = nlohmann::json::parse(stats_file);
+  const int frames = stats["frames"], dropped = stats["live"]["dropped"];
+  EXPECT_EQ(frames + dropped, 12);
+  EXPECT_GE(dropped, 9);  // frame 0 may be dropped too, when frame 1 has arrived before it starts
+  EXPECT_NE(r.output.find("frames dropped"), std::string::npos) << r.output;
+  // Without --realtime nothing is ever dropped, and --every-frame needs --realtime.
+  const auto bad = RunSgslam({"run", "--dataset", (tmp / "seq").string(), "--every-frame"});
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
 }
 
 // A run with a detector saves the boxes it got as detections.txt, in the format of

@@ -1,6 +1,7 @@
 #include "support/tiny_dataset.h"
 
 #include <opencv2/imgcodecs.hpp>
+#include <algorithm>
 #include <string>
 
 #include "sgslam/common/time.h"
@@ -21,13 +22,13 @@ CameraConfig TinyCamera() {
   return c;
 }
 
-void WriteTinyDataset(const fs::path& dir, int n) {
+void WriteTinyDataset(const fs::path& dir, int n, Timestamp period) {
   fs::create_directories(dir / "rgb");
   fs::create_directories(dir / "depth");
   std::string rgb_list = "# color images\n", depth_list = "# depth maps\n";
   for (int i = 0; i < n; ++i) {
-    const Timestamp t = 1000 * kNsPerSecond + i * kNsPerSecond / 30;
-    const std::string ts = FormatTimestamp(t), td = FormatTimestamp(t + 5'000'000);
+    const Timestamp t = 1000 * kNsPerSecond + i * period;
+    const std::string ts = FormatTimestamp(t), td = FormatTimestamp(t + std::min<Timestamp>(5'000'000, period / 5));
     cv::Mat bgr(48, 64, CV_8UC3, cv::Scalar(40 + i, 90, 160));
     cv::Mat depth(48, 64, CV_16UC1, cv::Scalar(10000));  // 2 m at factor 5000
     cv::imwrite((dir / "rgb" / (ts + ".png")).string(), bgr);

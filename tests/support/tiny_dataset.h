@@ -3,6 +3,8 @@
 
 #include <filesystem>
 
+#include "sgslam/common/time.h"
+
 #include "sgslam/config/config.h"
 
 namespace sgslam::test {
@@ -11,7 +13,8 @@ namespace sgslam::test {
 CameraConfig TinyCamera();
 
 // Writes n frames (rgb/, depth/ PNGs at 2 m depth, rgb.txt, depth.txt, and a
-// sgslam.yaml with TinyCamera) at 30 Hz into dir. Depth stamps lag RGB by 5 ms.
-void WriteTinyDataset(const std::filesystem::path& dir, int n);
+// sgslam.yaml with TinyCamera) a period apart (default 30 Hz) into dir. Depth
+// stamps lag RGB by 5 ms (a fifth of the period when that is shorter).
+void WriteTinyDataset(const std::filesystem::path& dir, int n, Timestamp period = kNsPerSecond / 30);
 
 }  // namespace sgslam::test

@@ -11,6 +11,8 @@
 #include "dynamic/dynamic_test_scene.h"
 #include "sgslam/camera/camera.h"
 #include "sgslam/config/config.h"
+#include "sgslam/common/stats.h"
+#include "sgslam/dynamic/box_carry.h"
 #include "sgslam/system/dynamic_stage.h"
 
 namespace sgslam {
@@ -99,6 +101,92 @@ TEST(DynamicStage, BoxesOfWalkersTheDetectorMissedAreCarriedIntoTheFrame) {
   // The carried boxes cost what a detected box costs: static background inside a
   // box is judged at eps / w (measured 2.5 % lost without, 5.3 % with).
   EXPECT_LE(share(on.still_rejected, on.still), 0.10);
+}
+
+// The ground-truth boxes of every frame, counting the frames it is asked about.
+class CountingDetector : public Detector {
+ public:
+  std::vector<Detection> Detect(const cv::Mat&, Timestamp t) override {
+    ++calls;
+    return boxes.at(t);
+  }
+  std::string Describe() const override { return "ground truth"; }
+  std::map<Timestamp, std::vector<Detection>> boxes;
+  int calls = 0;
+};
+
+struct StrideTally {
+  int detector_calls = 0, followed_frames = 0;
+  int moving = 0, moving_rejected = 0, still = 0, still_rejected = 0;
+  std::vector<double> ious;  // of each followed box with the best-overlapping true box
+};
+
+StrideTally RunStride(int stride) {
+  constexpr int kFirst = 30, kFrames = 24;
+  const synth::SynthSequence& seq = dynamic::test::Sequence("walkers");
+  Config config;
+  const synth::Intrinsics& K = seq.intrinsics();
+  config.camera.width = K.width, config.camera.height = K.height;
+  config.camera.fx = K.fx, config.camera.fy = K.fy, config.camera.cx = K.cx, config.camera.cy = K.cy;
+  config.camera.k1 = config.camera.k2 = config.camera.p1 = config.camera.p2 = config.camera.k3 = 0;
+  config.dynamic.mode = "sg";
+  config.dynamic.depth_check = false;
+  config.detector.stride = stride;
+  auto detector = std::make_unique<CountingDetector>();
+  CountingDetector* counting = detector.get();
+  for (int i = kFirst; i < kFirst + kFrames; ++i) {
+    const synth::RenderedFrame& f = dynamic::test::Frame("walkers", i);
+    detector->boxes[f.t] = synth::GroundTruthDetections(f, seq.scene());
+  }
+  DynamicStage stage(config.dynamic, config.detector, std::make_shared<Camera>(config.camera), std::move(detector),
+                     /*sequential=*/true);
+  StrideTally tally;
+  for (int i = kFirst; i < kFirst + kFrames; ++i) {
+    const synth::RenderedFrame& f = dynamic::test::Frame("walkers", i);
+    cv::Mat gray;
+    cv::cvtColor(f.bgr, gray, cv::COLOR_BGR2GRAY);
+    const std::vector<cv::KeyPoint> keys = dynamic::test::DetectKeypoints(gray);
+    stage.Submit(static_cast<std::uint64_t>(i), f.t, f.bgr);
+    const DynamicOutcome out = stage.Label(static_cast<std::uint64_t>(i), gray, f.depth_raw, keys);
+    if (out.followed) {
+      ++tally.followed_frames;
+      const std::vector<Detection> truth = counting->boxes.at(f.t);
+      for (const Detection& d : out.detections) {
+        double best = 0;
+        for (const Detection& t : truth) best = std::max(best, dynamic::BoxIou(d.box, t.box));
+        tally.ious.push_back(best);
+      }
+    }
+    if (i == kFirst) continue;
+    const std::vector<dynamic::test::Truth> truth = dynamic::test::Label(keys, f.dynamic_mask);
+    for (std::size_t k = 0; k < keys.size(); ++k) {
+      if (truth[k] == dynamic::test::Truth::kDynamic) ++tally.moving, tally.moving_rejected += out.dynamic[k];
+      if (truth[k] == dynamic::test::Truth::kStatic) ++tally.still, tally.still_rejected += out.dynamic[k];
+    }
+  }
+  tally.detector_calls = counting->calls;
+  return tally;
+}
+
+TEST(DynamicStage, BetweenDetectorFramesTheBoxesFollowTheFlow) {
+  const StrideTally every = RunStride(1), third = RunStride(3);
+  const auto share = [](int a, int b) { return b > 0 ? static_cast<double>(a) / b : 0.0; };
+  const double iou = Median(third.ious);
+  std::printf("stride 1: recall %.3f, static lost %.3f; stride 3: recall %.3f, static lost %.3f, median IoU %.2f\n",
+              share(every.moving_rejected, every.moving), share(every.still_rejected, every.still),
+              share(third.moving_rejected, third.moving), share(third.still_rejected, third.still), iou);
+  EXPECT_EQ(every.detector_calls, 24);
+  EXPECT_EQ(every.followed_frames, 0);
+  EXPECT_EQ(third.detector_calls, 8);  // frames 0, 3, 6, ... of the 24
+  EXPECT_EQ(third.followed_frames, 16);
+  // A followed box stays on its walker (measured: median IoU 0.93 with the true box;
+  // the true boxes change shape as walkers hide each other, the followed do not).
+  EXPECT_GT(iou, 0.85);
+  // Measured: recall 0.896 against 0.949 with a detection in every frame, as much
+  // of the background rejected (6.3-6.8 %).
+  ASSERT_GT(third.moving, 200);
+  EXPECT_GT(share(third.moving_rejected, third.moving), share(every.moving_rejected, every.moving) - 0.08);
+  EXPECT_LT(share(third.still_rejected, third.still), share(every.still_rejected, every.still) + 0.02);
 }
 
 }  // namespace

@@ -65,6 +65,7 @@ void DetectorConfig::Validate(ConfigChecker& c) const {
   c.InRange("nms_threshold", nms_threshold, 0.0, 1.0);
   c.InRange("threads", threads, 0, 64);
   c.InRange("timeout_ms", timeout_ms, 0, 60000);
+  c.InRange("stride", stride, 1, 30);
   c.Check(dynamic_min_weight > 1.0 && dynamic_min_weight <= 5.0, "dynamic_min_weight", dynamic_min_weight,
           "must be in (1, 5]");
   for (const auto& [name, w] : dynamic_weight) {

@@ -23,6 +23,9 @@ struct DetectorConfig {
   double nms_threshold = 0.45;             // IoU above which a lower-scored box of the same class is suppressed
   int threads = 1;                  // OpenCV threads of the whole process (cv::setNumThreads); 0: OpenCV's default
   int timeout_ms = 100;             // ms tracking waits for the frame's detections (inference: 10-20 ms here)
+  // The detector runs on every stride-th frame; the frames between take the last
+  // boxes moved with the flow of the keypoints inside them (NGD-SLAM's idea).
+  int stride = 1;
   std::string detections_file;      // backend file; empty: <dataset>/detections.txt
   double dynamic_min_weight = 3.0;  // classes with w >= this are moving objects (see ClassTable)
   // A table given in YAML replaces the whole default table; classes not in it weigh 1.
@@ -39,6 +42,7 @@ struct DetectorConfig {
     v("nms_threshold", nms_threshold, "IoU, per-class non-maximum suppression");
     v("threads", threads, "OpenCV threads of the process; 0: OpenCV default");
     v("timeout_ms", timeout_ms, "ms tracking waits for the frame's detections");
+    v("stride", stride, "run the detector on every Nth frame; between, its boxes follow the flow");
     v("detections_file", detections_file, "backend file; empty: <dataset>/detections.txt");
     v("dynamic_min_weight", dynamic_min_weight, "classes with weight >= this are moving objects");
     v("dynamic_weight", dynamic_weight, "class name: prior dynamic weight w in 1..5 (Algorithm 1)");

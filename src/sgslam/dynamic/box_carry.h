@@ -12,6 +12,7 @@
 #pragma once
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,12 @@ class BoxCarrier {
   std::function<bool(const std::string&)> is_dynamic_;
   std::vector<Detection> boxes_;  // in the last frame's pixels
 };
+
+// A box of the previous frame moved into this one by the median backward flow of
+// the keypoints whose previous position lies in it (unmoved with fewer than 5 such
+// pairs) and cut to the image; nothing once less than a third of it is in view.
+std::optional<cv::Rect2f> FollowBox(const cv::Rect2f& box, const std::vector<cv::Point2f>& cur, const FlowPairs& flow,
+                                    cv::Size image);
 
 // Intersection over union of two boxes (0 when either is empty).
 double BoxIou(const cv::Rect2f& a, const cv::Rect2f& b);

@@ -18,6 +18,7 @@ DynamicStage::DynamicStage(const DynamicConfig& config, const DetectorConfig& de
       camera_(std::move(camera)),
       classes_(detection),
       timeout_(detection.timeout_ms),
+      stride_(detection.stride),
       carrier_(config.carry_frames, config.carry_iou,
                [table = ClassTable(detection)](const std::string& name) { return table.is_dynamic(name); }) {
   if (camera_->has_distortion() && config.undistort_pairs && mode_ != dynamic::Mode::kNone &&
@@ -40,7 +41,8 @@ DynamicStage::DynamicStage(const DynamicConfig& config, const DetectorConfig& de
 std::string DynamicStage::DescribeDetector() const { return worker_ ? worker_->Describe() : "none"; }
 
 void DynamicStage::Submit(std::uint64_t frame_id, Timestamp t, const cv::Mat& bgr) {
-  if (worker_) worker_->Submit(frame_id, t, bgr);
+  submitted_ = worker_ && submits_++ % static_cast<std::uint64_t>(stride_) == 0;
+  if (submitted_) worker_->Submit(frame_id, t, bgr);
 }
 
 DetectionWorkerStats DynamicStage::detector_stats() const { return worker_ ? worker_->stats() : DetectionWorkerStats{}; }
@@ -117,15 +119,26 @@ dynamic::PairSet DynamicStage::TrackFlow(const std::vector<cv::KeyPoint>& keys, 
 void DynamicStage::AwaitDetections(std::uint64_t frame_id, const dynamic::PairSet& pairs, cv::Size image,
                                    DynamicOutcome& out) {
   if (!worker_) return;
-  const Stopwatch wait;
-  auto result = worker_->WaitResult(frame_id, timeout_);
-  out.wait_ms = wait.ElapsedMs();
-  if (result) {
-    out.detections = std::move(result->detections);
-    out.detector_ms = result->inference_ms;
+  if (!submitted_) {  // between detector frames: the last boxes, moved with the flow
+    out.followed = true;
+    for (const Detection& d : last_boxes_) {
+      if (const auto box = dynamic::FollowBox(d.box, pairs.cur, pairs.flow, image)) {
+        out.detections.push_back(d);
+        out.detections.back().box = *box;
+      }
+    }
   } else {
-    out.detector_late = true;  // carry on geometry-only for this frame
+    const Stopwatch wait;
+    auto result = worker_->WaitResult(frame_id, timeout_);
+    out.wait_ms = wait.ElapsedMs();
+    if (result) {
+      out.detections = std::move(result->detections);
+      out.detector_ms = result->inference_ms;
+    } else {
+      out.detector_late = true;  // carry on geometry-only for this frame
+    }
   }
+  if (stride_ > 1) last_boxes_ = out.detections;
   // Late or not, the moving objects of the last frames are still about.
   std::vector<Detection> carried = carrier_.Carry(out.detections, pairs.cur, pairs.flow, image);
   out.carried = static_cast<int>(carried.size());

@@ -45,6 +45,7 @@ struct DynamicOutcome {
   int kept = 0, rejected_geometry = 0, rejected_semantics = 0, rejected_depth = 0;
   bool judged = false;        // Algorithm 1 ran (not the first frame, mode not none)
   bool detector_late = false;  // the wait timed out or the frame was dropped
+  bool followed = false;       // not a detector frame (detector.stride): detections are the last ones moved with the flow
   double detector_ms = 0;      // inference time of this frame's detections
   double wait_ms = 0;          // time tracking waited for them
   double reject_ms = 0;        // flow (before the wait) + F + RGB-D check + decision
@@ -70,7 +71,8 @@ class DynamicStage {
   bool has_detector() const { return worker_ != nullptr; }
   std::string DescribeDetector() const;
 
-  // Hands the colour image to the detector (no-op without one).
+  // Hands the colour image to the detector on every detector.stride-th call (no-op
+  // without one); the frames between follow the last boxes (Label).
   void Submit(std::uint64_t frame_id, Timestamp t, const cv::Mat& bgr);
 
   // Labels the keypoints (raw, distorted positions) of the frame just submitted.
@@ -113,7 +115,11 @@ class DynamicStage {
   std::shared_ptr<const dynamic::UndistortTable> undistort_;  // raw -> undistorted flow pairs (distorted cameras)
   ClassTable classes_;
   const std::chrono::milliseconds timeout_;  // detector.timeout_ms
+  const int stride_;                          // detector.stride
   std::unique_ptr<DetectionWorker> worker_;
+  std::uint64_t submits_ = 0;  // Submit calls
+  bool submitted_ = false;     // the frame being labelled went to the detector
+  std::vector<Detection> last_boxes_;  // the last frame's detections (fresh or followed), for the frames between
   dynamic::FlowFrame prev_;
   bool boxes_only_ = false;  // prev_ was judged by its boxes alone (see boxes_only())
   // That frame's keypoints and the boxes it was judged by, for its second judgment.

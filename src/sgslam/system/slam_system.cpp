@@ -290,9 +290,11 @@ Frame SlamSystem::MakeFrame(std::uint64_t frame_id, const RgbdImages& images, Fr
   report.rejected_geometry = dyn.rejected_geometry;
   report.rejected_semantics = dyn.rejected_semantics;
   report.rejected_depth = dyn.rejected_depth;
-  report.detections = static_cast<int>(dyn.detections.size()) - dyn.carried;
+  const int boxes = static_cast<int>(dyn.detections.size()) - dyn.carried;
+  report.detections = dyn.followed ? 0 : boxes;
+  report.followed = dyn.followed ? boxes : 0;
   report.carried = dyn.carried;
-  report.boxes.assign(dyn.detections.begin(), dyn.detections.end() - dyn.carried);
+  if (!dyn.followed) report.boxes.assign(dyn.detections.begin(), dyn.detections.end() - dyn.carried);
   report.detector_late = dyn.detector_late;
   report.detector_ms = dyn.detector_ms;
   report.wait_ms = dyn.wait_ms;

@@ -50,6 +50,7 @@ struct FrameReport {
   int kept = 0, rejected_geometry = 0, rejected_semantics = 0, rejected_depth = 0;
   int detections = 0;
   int carried = 0;               // boxes of missed moving objects carried over (dynamic/box_carry.h)
+  int followed = 0;              // between detector frames (detector.stride): the last boxes moved with the flow
   std::vector<Detection> boxes;  // this frame's detections, without the carried (written to detections.txt)
   bool detector_late = false;  // tracking stopped waiting: geometry-only frame
   double detector_ms = 0;      // inference time of this frame (detector thread)
