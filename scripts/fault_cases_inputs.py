@@ -42,6 +42,17 @@ def _(t):
     t.run(ds, frames=(BASE_FRAMES, BASE_FRAMES))
 
 
+@case("rgb-list-nul", "a NUL byte inside a path in rgb.txt (it would end the path there)", 1,
+      r"rgb\.txt:\d+: a NUL byte")
+def _(t):
+    ds = t.dataset()
+    lines = list_lines(os.path.join(ds, "rgb.txt"))
+    stamp, path = lines[12].split()
+    lines[12] = f"{stamp} {path}\0.png"
+    write_lines(os.path.join(ds, "rgb.txt"), lines)
+    t.run(ds, "--max-frames", 16)
+
+
 @case("rgb-list-duplicate", "frame 10 listed twice in rgb.txt and depth.txt (two frames, one timestamp)", 1,
       r"rgb\.txt:\d+: timestamp .* repeats")
 def _(t):

@@ -150,16 +150,15 @@ def _(t):
           driver=when_log(STARTED, 0.5, SIG.SIGINT, SIG.SIGINT))
 
 
-@case("sigkill-mid-run", "SIGKILL 0.5 s into a run: what is there is whole", -9)
+@case("sigkill-mid-run", "SIGKILL 0.5 s into a run: what is there is whole, no temporary file left", -9)
 def _(t):
-    t.run(t.dataset(), "--realtime", allow_tmp=True, driver=when_log(STARTED, 0.5, SIG.SIGKILL))
+    t.run(t.dataset(), "--realtime", driver=when_log(STARTED, 0.5, SIG.SIGKILL))
 
 
-@case("sigkill-while-writing", "SIGKILL as soon as trajectory.txt appears (outputs being written)", (-9, 0),
-      short=True)
+@case("sigkill-while-writing", "SIGKILL as soon as trajectory.txt appears (outputs being written): "
+      "no temporary file left (outputs are written unnamed, O_TMPFILE)", (-9, 0), short=True)
 def _(t):
-    t.run(t.dataset(), "--max-frames", 20, allow_tmp=True,
-          driver=when_exists(t.path("out", "trajectory.txt"), SIG.SIGKILL))
+    t.run(t.dataset(), "--max-frames", 20, driver=when_exists(t.path("out", "trajectory.txt"), SIG.SIGKILL))
 
 
 @case("sigterm-while-writing", "SIGTERM as soon as frames.csv appears (outputs being written)", (0, 143))
