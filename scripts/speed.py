@@ -3,9 +3,14 @@
 (mode order rotated every repeat) so that a shared machine's noise falls on all of
 them alike, and the medians over the repeats as a Markdown table.
 
-  scripts/speed.sh [--modes none,sg] [--sequences tum_fr1_rpy,dyn_dev,walkers:1]
-                   [--repeats 3] [--realtime] [--sgslam build/sgslam] [--work DIR]
-                   [--markdown FILE] [-- more options for sgslam run]
+  scripts/speed.sh [--modes none,sg] [--variant LABEL="OPTIONS"]... [--repeats 3]
+                   [--sequences tum_fr1_rpy,dyn_dev,walkers:1] [--realtime]
+                   [--sgslam build/sgslam] [--work DIR] [--markdown FILE]
+                   [-- more options for every sgslam run]
+
+--modes M1,M2 runs `--mode M` for each; --variant adds a run with its own options
+(`--variant sg-stride3="--mode sg --config my.yaml"`); with --variant given, only
+the variants run unless --modes is given too.
 
 A sequence is a folder, a folder under the shared data ($SGSLAM_SHARED_DIR/data or
 ../shared/data), or PRESET[:SEED] for a generated one (rendered once into --work).
@@ -18,6 +23,7 @@ medians over the repeats, and the ratio of each mode's CPU ms a frame to the fir
 mode's."""
 import argparse
 import json
+import shlex
 import os
 import statistics
 import subprocess
@@ -53,8 +59,8 @@ def resolve(sgslam, name, work):
     sys.exit(f"speed: sequence '{name}' is not a folder, not in {shared_data()}, and not a synth preset")
 
 
-def run_once(sgslam, dataset, mode, out, realtime, extra):
-    cmd = [sgslam, "-q", "run", "--dataset", dataset, "--mode", mode, "--out", out] + (["--realtime"] if realtime else [])
+def run_once(sgslam, dataset, options, out, realtime, extra):
+    cmd = [sgslam, "-q", "run", "--dataset", dataset, "--out", out] + options + (["--realtime"] if realtime else [])
     cmd += extra
     start = time.monotonic()
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
@@ -94,7 +100,9 @@ def fmt(v, digits):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--modes", default="none,sg")
+    ap.add_argument("--modes", help="default none,sg (without --variant)")
+    ap.add_argument("--variant", action="append", default=[], metavar='LABEL="OPTIONS"',
+                    help="a run with these sgslam run options, under this label (repeatable)")
     ap.add_argument("--sequences", default="tum_fr1_rpy,dyn_dev,walkers:1")
     ap.add_argument("--repeats", type=int, default=3)
     ap.add_argument("--realtime", action="store_true")
@@ -107,7 +115,17 @@ def main():
         sys.exit(f"speed: no sgslam binary at {a.sgslam} (build first, or --sgslam PATH)")
     if a.repeats < 1:
         sys.exit("speed: --repeats must be at least 1")
-    modes = [m for m in a.modes.split(",") if m]
+    runs_of = {}  # label -> options, in order
+    if a.modes or not a.variant:
+        for m in (a.modes or "none,sg").split(","):
+            if m:
+                runs_of[m] = ["--mode", m]
+    for v in a.variant:
+        label, eq, options = v.partition("=")
+        if not eq or not label:
+            sys.exit(f"speed: --variant {v!r}: expected LABEL=\"OPTIONS\"")
+        runs_of[label] = shlex.split(options)
+    modes = list(runs_of)
     tmp = None if a.work else tempfile.TemporaryDirectory(prefix="sgslam-speed.")
     work = a.work or tmp.name
     os.makedirs(work, exist_ok=True)
@@ -117,11 +135,11 @@ def main():
         for name, path in sequences:
             order = modes[rep % len(modes):] + modes[:rep % len(modes)]
             for mode in order:
-                row = run_once(a.sgslam, path, mode, os.path.join(work, "out"), a.realtime, a.extra)
+                row = run_once(a.sgslam, path, runs_of[mode], os.path.join(work, "out"), a.realtime, a.extra)
                 runs.setdefault((name, mode), []).append(row)
                 print(f"speed: {name} {mode} #{rep + 1}: {row['fps']:.1f} fps, {row['cpu_ms']:.1f} CPU ms/frame, "
                       f"ATE {fmt(row['ate'], 4)}", file=sys.stderr, flush=True)
-    head = ("| sequence | mode | fps | frame ms | CPU ms/frame | CPU ratio | peak MiB | ATE m |"
+    head = ("| sequence | run | fps | frame ms | CPU ms/frame | CPU ratio | peak MiB | ATE m |"
             + (" dropped | latency ms (median / p95) |" if a.realtime else ""))
     lines = [head, "|" + "---|" * (head.count("|") - 1)]
     for name, _ in sequences:
@@ -139,10 +157,10 @@ def main():
                          f"{fmt(median(r.get('latency95_ms') for r in rs), 1)} |")
             lines.append(line)
     table = "\n".join(lines)
+    how = " ".join(shlex.quote(x) for x in sys.argv[1:])
     note = (f"\nMedians of {a.repeats} alternated runs, {time.strftime('%Y-%m-%d')}, "
-            f"`scripts/speed.sh --modes {a.modes} --sequences {a.sequences} --repeats {a.repeats}"
-            f"{' --realtime' if a.realtime else ''}{' -- ' + ' '.join(a.extra) if a.extra else ''}`; "
-            f"CPU ratio: CPU ms a frame over {modes[0]}'s.")
+            f"`scripts/speed.sh {how}"
+            f"`; CPU ratio: CPU ms a frame over {modes[0]}'s.")
     print(table + "\n" + note)
     if a.markdown:
         with open(a.markdown, "w", encoding="utf-8") as f:
