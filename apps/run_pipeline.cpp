@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <exception>
 #include <csignal>
 #include <nlohmann/json.hpp>
 #include <sstream>
 #include <thread>
+#include <utility>
 
 #include "progress.h"
 #include "run_outputs.h"
@@ -120,40 +122,67 @@ struct FrameLoop {
   std::vector<double> latency_ms;
 };
 
-// --realtime's clock: a frame arrives at the time of its timestamp, counted from
-// the first frame's.
-class LiveClock {
+// The frames to process, from the stream. With --realtime a frame arrives at the
+// time of its timestamp (counted from the first frame's) and is waited for; then,
+// unless --every-frame, the frames that have arrived meanwhile replace one another
+// in a one-slot buffer and the newest is taken, the others counted as dropped. To
+// know whether a newer frame has arrived the stream is read one frame ahead; a
+// frame that cannot be read is reported when its turn comes, so that the frames
+// before it are all processed.
+class FrameSource {
  public:
+  FrameSource(const RunOptions& o, FrameStream& stream) : o_(o), stream_(stream) {}
+
+  std::optional<RgbdImages> Take() {
+    std::optional<RgbdImages> frame = Read();
+    if (!frame || !o_.realtime) return frame;
+    arrival_ = Arrival(*frame);
+    WaitUntilOrStopped(arrival_);
+    while (!o_.every_frame && !error_) {
+      try {
+        ahead_ = stream_.Next();
+      } catch (...) {
+        error_ = std::current_exception();  // rethrown by the next Take
+        break;
+      }
+      if (!ahead_ || Arrival(*ahead_) > std::chrono::steady_clock::now()) break;
+      ++dropped_;
+      frame = std::move(ahead_);
+      ahead_.reset();
+      arrival_ = Arrival(*frame);
+    }
+    return frame;
+  }
+
+  // When the frame last taken arrived (--realtime).
+  std::chrono::steady_clock::time_point arrival() const { return arrival_; }
+  std::size_t dropped() const { return dropped_; }
+
+ private:
+  std::optional<RgbdImages> Read() {
+    if (ahead_) {
+      std::optional<RgbdImages> f = std::move(ahead_);
+      ahead_.reset();
+      return f;
+    }
+    if (error_) std::rethrow_exception(std::exchange(error_, nullptr));
+    return stream_.Next();
+  }
+
   std::chrono::steady_clock::time_point Arrival(const RgbdImages& frame) {
     if (!started_) started_ = true, t_first_ = frame.t, start_ = std::chrono::steady_clock::now();
     return start_ + std::chrono::nanoseconds(frame.t - t_first_);
   }
 
- private:
+  const RunOptions& o_;
+  FrameStream& stream_;
+  std::optional<RgbdImages> ahead_;
+  std::exception_ptr error_;
+  std::size_t dropped_ = 0;
   bool started_ = false;
   Timestamp t_first_ = 0;
-  std::chrono::steady_clock::time_point start_;
+  std::chrono::steady_clock::time_point start_, arrival_;
 };
-
-// The next frame to process. With --realtime: waited for until it arrives; then,
-// unless --every-frame, the frames that have arrived meanwhile replace one another
-// in the one-slot buffer, and the newest is taken (the others counted as dropped).
-// `next` is the stream's frame after the one returned (read ahead).
-std::optional<RgbdImages> TakeFrame(const RunOptions& o, FrameStream& stream, std::optional<RgbdImages>& next,
-                                    LiveClock& clock, FrameLoop& loop, std::chrono::steady_clock::time_point& arrival) {
-  std::optional<RgbdImages> frame = std::move(next);
-  next = stream.Next();
-  if (!frame || !o.realtime) return frame;
-  arrival = clock.Arrival(*frame);
-  WaitUntilOrStopped(arrival);
-  while (!o.every_frame && next && clock.Arrival(*next) <= std::chrono::steady_clock::now()) {
-    ++loop.dropped;
-    frame = std::move(next);
-    arrival = clock.Arrival(*frame);
-    next = stream.Next();
-  }
-  return frame;
-}
 
 // Streams the dataset through the system: the frames at their timestamps' pace
 // with o.realtime, the progress bar, the truth scores, Ctrl-C and SIGUSR1.
@@ -162,11 +191,9 @@ FrameLoop RunFrames(const RunOptions& o, const TumDataset& dataset, const Config
   FrameLoop loop;
   FrameStream stream(dataset, config.camera, static_cast<std::size_t>(config.dataset.prefetch), o.max_frames);
   ProgressBar progress(stream.size());
-  LiveClock clock;
+  FrameSource source(o, stream);
   try {
-    std::optional<RgbdImages> next = stream.Next();
-    std::chrono::steady_clock::time_point arrival;
-    while (auto frame = TakeFrame(o, stream, next, clock, loop, arrival)) {
+    while (auto frame = source.Take()) {
       if (loop.reports.empty()) {
         if (const auto warning = CheckDepthScale(*frame, dataset.frames()[frame->index], config.camera, config.dataset)) {
           spdlog::warn("{}", *warning);
@@ -175,7 +202,7 @@ FrameLoop RunFrames(const RunOptions& o, const TumDataset& dataset, const Config
       FrameReport& r = loop.reports.emplace_back(system.Process(*frame));
       if (o.realtime) {
         loop.latency_ms.push_back(
-            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - arrival).count());
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - source.arrival()).count());
       }
       if (const auto warning = loop.people.Add(frame->depth, r.boxes, config.camera)) spdlog::warn("{}", *warning);
       truth.AddFrame(r);
@@ -204,6 +231,7 @@ FrameLoop RunFrames(const RunOptions& o, const TumDataset& dataset, const Config
     if (loop.reports.empty()) throw;
     loop.failure = std::string("unexpected failure: ") + e.what();
   }
+  loop.dropped = source.dropped();
   if (loop.dropped > 0) {
     spdlog::info("--realtime: {} frames dropped (arrived while the system was busy)", loop.dropped);
   }
