@@ -40,15 +40,32 @@ struct Tally {
   bool labels_consistent = true;  // one unjudged flag per keypoint, never on a rejected one
 };
 
-Tally RunWalkers(int carry_frames) {
-  constexpr int kFirst = 30, kFrames = 24;
-  const synth::SynthSequence& seq = dynamic::test::Sequence("walkers");
+// sg on the walkers sequence's pinhole camera.
+Config WalkersConfig(const synth::SynthSequence& seq) {
   Config config;
   const synth::Intrinsics& K = seq.intrinsics();
   config.camera.width = K.width, config.camera.height = K.height;
   config.camera.fx = K.fx, config.camera.fy = K.fy, config.camera.cx = K.cx, config.camera.cy = K.cy;
   config.camera.k1 = config.camera.k2 = config.camera.p1 = config.camera.p2 = config.camera.k3 = 0;
   config.dynamic.mode = "sg";
+  return config;
+}
+
+// Walkers frame i through the stage: its keypoints and their labels.
+std::pair<std::vector<cv::KeyPoint>, DynamicOutcome> SubmitAndLabel(DynamicStage& stage, int i,
+                                                                    const synth::RenderedFrame& f) {
+  cv::Mat gray;
+  cv::cvtColor(f.bgr, gray, cv::COLOR_BGR2GRAY);
+  std::vector<cv::KeyPoint> keys = dynamic::test::DetectKeypoints(gray);
+  stage.Submit(static_cast<std::uint64_t>(i), f.t, f.bgr);
+  DynamicOutcome out = stage.Label(static_cast<std::uint64_t>(i), gray, f.depth_raw, keys);
+  return {std::move(keys), std::move(out)};
+}
+
+Tally RunWalkers(int carry_frames) {
+  constexpr int kFirst = 30, kFrames = 24;
+  const synth::SynthSequence& seq = dynamic::test::Sequence("walkers");
+  Config config = WalkersConfig(seq);
   config.dynamic.carry_frames = carry_frames;
   config.dynamic.depth_check = false;  // the epipolar test and the boxes only
   std::map<Timestamp, std::vector<Detection>> boxes;
@@ -61,11 +78,7 @@ Tally RunWalkers(int carry_frames) {
   Tally tally;
   for (int i = kFirst; i < kFirst + kFrames; ++i) {
     const synth::RenderedFrame& f = dynamic::test::Frame("walkers", i);
-    cv::Mat gray;
-    cv::cvtColor(f.bgr, gray, cv::COLOR_BGR2GRAY);
-    const std::vector<cv::KeyPoint> keys = dynamic::test::DetectKeypoints(gray);
-    stage.Submit(static_cast<std::uint64_t>(i), f.t, f.bgr);
-    const DynamicOutcome out = stage.Label(static_cast<std::uint64_t>(i), gray, f.depth_raw, keys);
+    const auto [keys, out] = SubmitAndLabel(stage, i, f);
     if (i > kFirst) {
       tally.labels_consistent = tally.labels_consistent && out.unjudged.size() == keys.size();
       for (std::size_t k = 0; k < out.unjudged.size() && k < keys.size(); ++k) {
@@ -124,12 +137,7 @@ struct StrideTally {
 StrideTally RunStride(int stride) {
   constexpr int kFirst = 30, kFrames = 24;
   const synth::SynthSequence& seq = dynamic::test::Sequence("walkers");
-  Config config;
-  const synth::Intrinsics& K = seq.intrinsics();
-  config.camera.width = K.width, config.camera.height = K.height;
-  config.camera.fx = K.fx, config.camera.fy = K.fy, config.camera.cx = K.cx, config.camera.cy = K.cy;
-  config.camera.k1 = config.camera.k2 = config.camera.p1 = config.camera.p2 = config.camera.k3 = 0;
-  config.dynamic.mode = "sg";
+  Config config = WalkersConfig(seq);
   config.dynamic.depth_check = false;
   config.detector.stride = stride;
   auto detector = std::make_unique<CountingDetector>();
@@ -143,11 +151,7 @@ StrideTally RunStride(int stride) {
   StrideTally tally;
   for (int i = kFirst; i < kFirst + kFrames; ++i) {
     const synth::RenderedFrame& f = dynamic::test::Frame("walkers", i);
-    cv::Mat gray;
-    cv::cvtColor(f.bgr, gray, cv::COLOR_BGR2GRAY);
-    const std::vector<cv::KeyPoint> keys = dynamic::test::DetectKeypoints(gray);
-    stage.Submit(static_cast<std::uint64_t>(i), f.t, f.bgr);
-    const DynamicOutcome out = stage.Label(static_cast<std::uint64_t>(i), gray, f.depth_raw, keys);
+    const auto [keys, out] = SubmitAndLabel(stage, i, f);
     if (out.followed) {
       ++tally.followed_frames;
       const std::vector<Detection> truth = counting->boxes.at(f.t);
