@@ -100,7 +100,7 @@ TEST(DetectorConfig, VisitListsEveryField) {
     keys.insert(key);
   });
   EXPECT_EQ(keys, (std::set<std::string>{"backend", "model_dir", "model", "input_size", "score_threshold",
-                                         "person_score_threshold", "nms_threshold", "threads", "timeout_ms",
+                                         "person_score_threshold", "nms_threshold", "threads", "timeout_ms", "stride",
                                          "detections_file", "dynamic_min_weight", "dynamic_weight"}));
 }
 
