@@ -289,14 +289,11 @@ nlohmann::json RunStats(const RunOptions& o, const Config& config, const TumData
   }
   AddAte(dataset, trajectory, s, stats);
   if (o.realtime) {
-    std::vector<double> sorted = loop.latency_ms;
-    std::sort(sorted.begin(), sorted.end());
-    const auto p95 = sorted.empty() ? 0.0 : sorted[std::min(sorted.size() - 1, sorted.size() * 95 / 100)];
     stats["live"] = {{"every_frame", o.every_frame},
                      {"dropped", loop.dropped},
                      {"median_latency_ms", Median(loop.latency_ms)},
-                     {"p95_latency_ms", p95},
-                     {"max_latency_ms", sorted.empty() ? 0.0 : sorted.back()}};
+                     {"p95_latency_ms", Percentile(loop.latency_ms, 0.95)},
+                     {"max_latency_ms", Percentile(loop.latency_ms, 1.0)}};
   }
   if (const auto h = loop.people.median_height()) {
     stats["dynamic"]["people_measured"] = loop.people.measured();
