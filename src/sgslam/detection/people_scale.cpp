@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "sgslam/common/stats.h"
+#include "sgslam/io/tum_dataset.h"
 
 namespace sgslam {
 
@@ -65,14 +66,7 @@ std::optional<std::string> PeopleScaleCheck::Add(const cv::Mat& depth, const std
   const double seen = tiny ? *hi : *lo;
   char factor[32];
   std::snprintf(factor, sizeof factor, "%g", camera.depth_factor);
-  std::string hint;
-  for (const double f : {1000.0, 5000.0}) {
-    const double h = seen * camera.depth_factor / f;
-    if (f != camera.depth_factor && h >= kMinTallest && h <= kMaxShortest) {
-      hint = "; with camera.depth_factor = " + std::to_string(static_cast<int>(f)) +
-             (f == 1000 ? " (millimetres)" : "") + " it would be " + Metres(h);
-    }
-  }
+  const std::string hint = DepthFactorHint(seen, camera.depth_factor, kMinTallest, kMaxShortest);
   const std::string n = std::to_string(measured());
   return (tiny ? "the tallest of the " + n + " people measured in the first frames is " + Metres(seen) +
                      ", where even a head and shoulders are " + Metres(kMinTallest)

@@ -179,19 +179,19 @@ std::string Metres(double m) {
   return buf;
 }
 
-std::string FactorHint(double median, double factor) {
+}  // namespace
+
+std::string DepthFactorHint(double metres, double factor, double lo, double hi) {
   std::string hint;
   for (const double f : {1000.0, 5000.0}) {
-    const double m = median * factor / f;
-    if (f != factor && m >= kUsualMedianMin && m <= kUsualMedianMax) {
+    const double m = metres * factor / f;
+    if (f != factor && m >= lo && m <= hi) {
       hint = "; with camera.depth_factor = " + std::to_string(static_cast<int>(f)) + (f == 1000 ? " (millimetres)" : "") +
              " it would be " + Metres(m);
     }
   }
   return hint;
 }
-
-}  // namespace
 
 std::optional<std::string> CheckDepthScale(const RgbdImages& frame, const FrameRecord& record,
                                            const CameraConfig& camera, const DatasetConfig& dataset) {
@@ -208,7 +208,7 @@ std::optional<std::string> CheckDepthScale(const RgbdImages& frame, const FrameR
   std::snprintf(factor, sizeof factor, "%g", camera.depth_factor);
   const std::string what = "depth image " + record.depth.string() + " has a median depth of " + Metres(median) +
                            " with camera.depth_factor = " + factor;
-  const std::string hint = FactorHint(median, camera.depth_factor);
+  const std::string hint = DepthFactorHint(median, camera.depth_factor, kUsualMedianMin, kUsualMedianMax);
   if (median < dataset.min_median_depth || median > dataset.max_median_depth) {
     const bool near = median < dataset.min_median_depth;
     throw InputError(what + hint + ". The depth scale is wrong for this data: set camera.depth_factor (TUM and Bonn " +

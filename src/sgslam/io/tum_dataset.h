@@ -58,6 +58,12 @@ class TumDataset {
   bool associations_from_file_ = false;
 };
 
+// "; with camera.depth_factor = F (millimetres) it would be X m" for the common
+// factor F (1000 or 5000) that brings `metres`, measured with `factor`, into
+// [lo, hi]; empty when none does. The hint of the depth-scale checks (this one and
+// detection/people_scale.h).
+std::string DepthFactorHint(double metres, double factor, double lo, double hi);
+
 // Checks the depth scale on one frame: a median valid depth outside the configured
 // range (dataset.min/max_median_depth) means depth_factor is wrong for this data:
 // throws InputError naming both and the factor that would fit. A median outside
