@@ -2,14 +2,12 @@
 
 #include <spdlog/spdlog.h>
 
-#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <exception>
 #include <csignal>
 #include <nlohmann/json.hpp>
 #include <sstream>
-#include <thread>
 #include <utility>
 
 #include "progress.h"
@@ -99,18 +97,6 @@ std::unique_ptr<Detector> LoadDetector(const Config& config, const fs::path& dat
   return uses_boxes ? MakeDetector(config.detector, dataset_dir) : nullptr;
 }
 
-// --realtime's wait for a frame's time, cut short by a stop signal: a gap in the
-// timestamps (an hour between two frames) must not keep a SIGTERM waiting for it.
-// A signal does not end a sleep (it is restarted), hence the slices.
-void WaitUntilOrStopped(std::chrono::steady_clock::time_point deadline) {
-  constexpr auto kSlice = std::chrono::milliseconds(50);
-  while (!StopSignals::Received()) {
-    const auto now = std::chrono::steady_clock::now();
-    if (now >= deadline) return;
-    std::this_thread::sleep_for(std::min<std::chrono::steady_clock::duration>(deadline - now, kSlice));
-  }
-}
-
 struct FrameLoop {
   std::vector<FrameReport> reports;
   std::string failure;  // the error that ended the loop early, after some frames
@@ -137,7 +123,7 @@ class FrameSource {
     std::optional<RgbdImages> frame = Read();
     if (!frame || !o_.realtime) return frame;
     arrival_ = Arrival(*frame);
-    WaitUntilOrStopped(arrival_);
+    StopSignals::WaitUntil(arrival_);  // cut short by a stop signal: an hour's gap must not hold a SIGTERM
     while (!o_.every_frame && !error_) {
       try {
         ahead_ = stream_.Next();

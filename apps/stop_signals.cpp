@@ -1,14 +1,29 @@
 #include "stop_signals.h"
 
+#include <fcntl.h>
+#include <poll.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <ctime>
+
 namespace sgslam::app {
 
 namespace {
 
 std::atomic<int> g_signal{0};
 std::atomic<bool> g_stop{false};
+// The self-pipe that wakes WaitUntil: the handler writes a byte (write is
+// async-signal-safe), the wait polls the read end. Created once, kept open.
+int g_wake[2] = {-1, -1};
+
 extern "C" void OnStopSignal(int signal) {
   g_signal = signal;
   g_stop = true;
+  if (g_wake[1] >= 0) {
+    const char byte = 1;
+    [[maybe_unused]] const ssize_t n = write(g_wake[1], &byte, 1);  // a full pipe is awake already
+  }
 }
 
 }  // namespace
@@ -16,7 +31,26 @@ extern "C" void OnStopSignal(int signal) {
 StopSignals::StopSignals() {
   g_signal = 0;
   g_stop = false;
+  if (g_wake[0] < 0 && pipe2(g_wake, O_CLOEXEC | O_NONBLOCK) != 0) g_wake[0] = g_wake[1] = -1;
+  char drain[64];
+  while (g_wake[0] >= 0 && read(g_wake[0], drain, sizeof drain) > 0) {
+  }
   for (const int s : kSignals) previous_.push_back(std::signal(s, OnStopSignal));
+}
+
+bool StopSignals::WaitUntil(std::chrono::steady_clock::time_point deadline) {
+  using std::chrono::steady_clock;
+  while (!Received()) {
+    const steady_clock::time_point now = steady_clock::now();
+    if (now >= deadline) return true;
+    auto left = std::chrono::duration_cast<std::chrono::nanoseconds>(deadline - now);
+    if (g_wake[0] < 0) left = std::min<std::chrono::nanoseconds>(left, std::chrono::milliseconds(50));  // no pipe: slices
+    const std::timespec timeout{static_cast<std::time_t>(left.count() / 1'000'000'000),
+                                static_cast<long>(left.count() % 1'000'000'000)};
+    pollfd wake{g_wake[0], POLLIN, 0};
+    ppoll(&wake, 1, &timeout, nullptr);  // woken by the pipe, interrupted, or timed out: the loop tells which
+  }
+  return false;
 }
 
 StopSignals::~StopSignals() {

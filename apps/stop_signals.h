@@ -6,6 +6,7 @@
 
 #include <array>
 #include <atomic>
+#include <chrono>
 #include <csignal>
 #include <vector>
 
@@ -22,6 +23,9 @@ class StopSignals {
   static int Received();
   // Set when one was received (for code that polls a flag).
   static const std::atomic<bool>& Flag();
+  // Waits until the deadline, or less when a stop signal arrives (the handler wakes
+  // the wait through a pipe: no polling). False when stopped by a signal.
+  static bool WaitUntil(std::chrono::steady_clock::time_point deadline);
 
  private:
   static constexpr std::array<int, 3> kSignals = {SIGINT, SIGTERM, SIGHUP};
