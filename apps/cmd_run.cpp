@@ -52,7 +52,20 @@ Action AddRunCommand(CLI::App& root) {
                 "With --load-map: track in the map without adding keyframes or points (dynamic rejection stays on)")
       ->needs(load);
   cmd->add_option("--save-map", o->save_map, "Save the whole map to FILE at the end (and on SIGUSR1 during the run)");
-  return [o] {
+  auto viewer_text = std::make_shared<std::string>();
+  CLI::Option* viewer =
+      cmd->add_option("--viewer", *viewer_text,
+                      "Serve a live view of the run in a web browser, on 127.0.0.1 port " +
+                          std::to_string(kDefaultViewerPort) +
+                          " (--viewer=PORT for another; 0: any free port); its address is printed")
+          ->expected(0, 1)
+          ->check(CLI::Range(0, 65535));
+  cmd->add_option("--viewer-address", o->viewer_address,
+                  "With --viewer: the address to serve on (default 127.0.0.1: this machine only; another lets "
+                  "anyone who can reach it watch and pause the run)")
+      ->needs(viewer);
+  return [o, viewer, viewer_text] {
+    if (viewer->count() > 0) o->viewer_port = viewer_text->empty() ? kDefaultViewerPort : std::stoi(*viewer_text);
     const RunSummary s = RunSequence(*o);
     std::printf("%s\n", FormatSummary(s).c_str());
     return s.stopped_by ? 128 + s.stopped_by : kExitOk;  // the shell's status for a stop by that signal

@@ -12,6 +12,7 @@
 
 #include "progress.h"
 #include "run_outputs.h"
+#include "run_viewer.h"
 #include "stop_signals.h"
 #include "sgslam/common/error.h"
 #include "sgslam/common/stats.h"
@@ -173,7 +174,7 @@ class FrameSource {
 // Streams the dataset through the system: the frames at their timestamps' pace
 // with o.realtime, the progress bar, the truth scores, Ctrl-C and SIGUSR1.
 FrameLoop RunFrames(const RunOptions& o, const TumDataset& dataset, const Config& config, SlamSystem& system,
-                    TruthScorer& truth, const fs::path& out, const Stopwatch& wall) {
+                    TruthScorer& truth, const fs::path& out, const Stopwatch& wall, RunViewer* viewer) {
   FrameLoop loop;
   FrameStream stream(dataset, config.camera, static_cast<std::size_t>(config.dataset.prefetch), o.max_frames);
   ProgressBar progress(stream.size());
@@ -192,6 +193,7 @@ FrameLoop RunFrames(const RunOptions& o, const TumDataset& dataset, const Config
       }
       if (const auto warning = loop.people.Add(frame->depth, r.boxes, config.camera)) spdlog::warn("{}", *warning);
       truth.AddFrame(r);
+      if (viewer) viewer->AddFrame(r);
       // Keep the per-frame record small: swapped out, as `= {}` keeps the capacity.
       std::vector<cv::Point2f>().swap(r.keypoints);
       std::vector<std::uint8_t>().swap(r.rejected);
@@ -204,6 +206,7 @@ FrameLoop RunFrames(const RunOptions& o, const TumDataset& dataset, const Config
         }
         if (!o.save_map.empty()) system.SaveMap(o.save_map);
       }
+      if (viewer) viewer->WaitWhilePaused();
       if ((loop.stopped_by = StopSignals::Received()) != 0) {
         spdlog::warn("interrupted by {}: writing the outputs of the {} frames processed", SignalName(loop.stopped_by),
                      loop.reports.size());
@@ -406,9 +409,19 @@ RunSummary RunSequence(const RunOptions& o) {
     spdlog::info("rolling shutter: rows read out over {:.0f} ms (camera.readout; 0 for a global shutter)",
                  1000 * config.camera.readout);
   }
+  std::unique_ptr<RunViewer> viewer;  // before the system goes, it stops
+  if (o.viewer_port >= 0) {
+    const std::size_t frames = o.max_frames > 0 ? std::min(o.max_frames, dataset.size()) : dataset.size();
+    viewer = std::make_unique<RunViewer>(system, o.viewer_address, o.viewer_port,
+                                         nlohmann::json{{"live", true},
+                                                        {"dataset", dataset.dir().filename().string()},
+                                                        {"mode", config.dynamic.mode},
+                                                        {"frames", frames},
+                                                        {"pausable", true}});
+  }
   TruthScorer truth(o.dataset);
   const Stopwatch wall;
-  FrameLoop loop = RunFrames(o, dataset, config, system, truth, s.out, wall);
+  FrameLoop loop = RunFrames(o, dataset, config, system, truth, s.out, wall, viewer.get());
   system.Finish();
   const double seconds = wall.ElapsedMs() * 1e-3;
   const bool map_saved = SaveMapAtEnd(o, system);  // before the export filters the semantic clouds

@@ -12,6 +12,8 @@
 
 namespace sgslam::app {
 
+inline constexpr int kDefaultViewerPort = 7117;
+
 struct RunOptions {
   std::string dataset, config, out, model;
   std::string mode;  // empty: the config's dynamic.mode (default sg)
@@ -27,6 +29,9 @@ struct RunOptions {
   // file to save the map to at the end and on SIGUSR1.
   std::string load_map, save_map;
   bool localize = false;  // with load_map: track in the map without adding to it
+  // --viewer[=PORT]: the live web viewer (viewer/) on viewer_address; -1: none.
+  int viewer_port = -1;
+  std::string viewer_address = "127.0.0.1";
   bool print_objects = true;  // the end-of-run object table on stdout
   // Programmatic overrides after the file and the options above (the demo's
   // comparison runs); `tweak_name` is added to the configuration's source.

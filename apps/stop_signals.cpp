@@ -38,7 +38,7 @@ StopSignals::StopSignals() {
   for (const int s : kSignals) previous_.push_back(std::signal(s, OnStopSignal));
 }
 
-bool StopSignals::WaitUntil(std::chrono::steady_clock::time_point deadline) {
+bool StopSignals::WaitUntil(std::chrono::steady_clock::time_point deadline, int also_fd) {
   using std::chrono::steady_clock;
   while (!Received()) {
     const steady_clock::time_point now = steady_clock::now();
@@ -47,8 +47,9 @@ bool StopSignals::WaitUntil(std::chrono::steady_clock::time_point deadline) {
     if (g_wake[0] < 0) left = std::min<std::chrono::nanoseconds>(left, std::chrono::milliseconds(50));  // no pipe: slices
     const std::timespec timeout{static_cast<std::time_t>(left.count() / 1'000'000'000),
                                 static_cast<long>(left.count() % 1'000'000'000)};
-    pollfd wake{g_wake[0], POLLIN, 0};
-    ppoll(&wake, 1, &timeout, nullptr);  // woken by the pipe, interrupted, or timed out: the loop tells which
+    pollfd wake[2] = {{g_wake[0], POLLIN, 0}, {also_fd, POLLIN, 0}};
+    // Woken by the pipe, interrupted, or timed out: the loop tells which.
+    if (ppoll(wake, also_fd >= 0 ? 2 : 1, &timeout, nullptr) > 0 && (wake[1].revents & POLLIN)) return !Received();
   }
   return false;
 }

@@ -24,8 +24,9 @@ class StopSignals {
   // Set when one was received (for code that polls a flag).
   static const std::atomic<bool>& Flag();
   // Waits until the deadline, or less when a stop signal arrives (the handler wakes
-  // the wait through a pipe: no polling). False when stopped by a signal.
-  static bool WaitUntil(std::chrono::steady_clock::time_point deadline);
+  // the wait through a pipe: no polling) or also_fd (when >= 0) becomes readable.
+  // False when stopped by a signal.
+  static bool WaitUntil(std::chrono::steady_clock::time_point deadline, int also_fd = -1);
 
  private:
   static constexpr std::array<int, 3> kSignals = {SIGINT, SIGTERM, SIGHUP};

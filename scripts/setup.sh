@@ -16,7 +16,12 @@ PACKAGES=(
   libgtest-dev libbenchmark-dev libcereal-dev
   darknet  # only for /usr/share/darknet/data/person.jpg, the detector test's real image
   python3  # scripts/ablation.sh tables
+  libboost-dev  # the viewer's server (Boost.Beast, header-only)
+  chromium      # the viewer's browser tests (driven by playwright-core from npm)
 )
+# npm: Debian's package, unless node and npm are there already (NodeSource's nodejs
+# has npm and conflicts with Debian's).
+command -v npm >/dev/null || PACKAGES+=(npm)
 
 build=1
 build_dir=build
@@ -37,7 +42,7 @@ while [ $# -gt 0 ]; do
                                               -DSGSLAM_TSAN=ON -DSGSLAM_BUILD_BENCH=OFF) ;;
     --fuzz)
       build_dir=build-fuzz
-      cmake_flags=(-DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSGSLAM_FUZZ=ON
+      cmake_flags=(-DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSGSLAM_FUZZ=ON -DSGSLAM_VIEWER=OFF
                    -DSGSLAM_BUILD_TESTS=OFF -DSGSLAM_BUILD_BENCH=OFF)
       PACKAGES+=(clang-14 libclang-rt-14-dev) ;;
     *) echo "setup.sh: unknown option '$arg' (use --no-build, --asan, --tsan, --fuzz or --target T)" >&2; exit 2 ;;
@@ -60,6 +65,13 @@ if [ ${#missing[@]} -gt 0 ]; then
   $SUDO apt-get install -y -q --no-install-recommends "${missing[@]}"
 else
   echo "setup: all ${#PACKAGES[@]} packages present"
+fi
+
+# three.js (served with the viewer's page) and playwright-core (its browser tests),
+# at the versions of viewer/package-lock.json; again only when they change.
+if [ ! -f viewer/node_modules/.package-lock.json ] || ! cmp -s viewer/package-lock.json viewer/node_modules/.lock-installed; then
+  echo "setup: npm ci in viewer/"
+  (cd viewer && npm ci --no-audit --no-fund --loglevel=error && cp package-lock.json node_modules/.lock-installed)
 fi
 
 if [ "$build" = 1 ]; then

@@ -1,0 +1,173 @@
+#include "live_source.h"
+
+#include <chrono>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "message.h"
+#include "sgslam/common/time.h"
+
+namespace sgslam::viewer {
+
+namespace {
+
+// Column-major, as three.js's Matrix4.fromArray reads it.
+std::vector<float> Matrix(const SE3& T) {
+  const Eigen::Matrix4d m = T.matrix();
+  std::vector<float> out(16);
+  for (int c = 0; c < 4; ++c) {
+    for (int r = 0; r < 4; ++r) out[4 * c + r] = static_cast<float>(m(r, c));
+  }
+  return out;
+}
+
+double SteadySeconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+}  // namespace
+
+void LiveSource::AddFrame(const FrameReport& report) {
+  const auto snapshot = system_.LatestFrame();
+  {
+    std::lock_guard lock(mutex_);
+    ++version_;
+    ++frames_;
+    if (report.state != TrackState::kOk) ++lost_;
+    if (snapshot && snapshot->index == report.index && snapshot->T_w_c) {
+      const Eigen::Vector3d p = snapshot->T_w_c->translation();
+      path_.insert(path_.end(), {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())});
+    }
+    arrivals_.push_back(SteadySeconds());
+    if (arrivals_.size() > 30) arrivals_.pop_front();
+    keyframes_ = report.map_keyframes;
+    map_points_ = report.map_points;
+    kept_ = report.kept;
+    rejected_ = report.rejected_geometry + report.rejected_semantics + report.rejected_depth;
+  }
+  if (server_) server_->NotifyFrame();
+}
+
+std::uint64_t LiveSource::FrameVersion() const {
+  std::lock_guard lock(mutex_);
+  return version_;
+}
+
+std::shared_ptr<const std::string> LiveSource::EncodeFrame() {
+  const auto f = system_.LatestFrame();
+  if (!f) return nullptr;
+  MessageBuilder m("frame");
+  nlohmann::json& h = m.header();
+  {
+    std::lock_guard lock(mutex_);
+    h["version"] = version_;
+    h["frames"] = frames_;
+    h["lost"] = lost_;
+    h["keyframes"] = keyframes_;
+    h["map_points"] = map_points_;
+    const int judged = kept_ + rejected_;
+    h["rejected_share"] = judged > 0 ? static_cast<double>(rejected_) / judged : 0.0;
+    h["fps"] = arrivals_.size() > 1 ? (arrivals_.size() - 1) / (arrivals_.back() - arrivals_.front()) : 0.0;
+  }
+  h["index"] = f->index;
+  h["t"] = ToSeconds(f->t);
+  h["state"] = ToString(f->state);
+  h["keyframe"] = f->keyframe;
+  h["frame_ms"] = f->frame_ms;
+  h["paused"] = pause_.paused();
+  if (f->T_w_c) h["pose"] = Matrix(*f->T_w_c);
+  h["width"] = f->bgr.cols;
+  h["height"] = f->bgr.rows;
+  h["detections"] = nlohmann::json::array();
+  for (const Detection& d : f->detections) {
+    h["detections"].push_back({{"name", d.class_name},
+                               {"score", d.score},
+                               {"box", {d.box.x, d.box.y, d.box.width, d.box.height}},
+                               {"carried", d.carried}});
+  }
+  std::vector<std::uint8_t> jpeg;
+  if (!f->bgr.empty()) cv::imencode(".jpg", f->bgr, jpeg, {cv::IMWRITE_JPEG_QUALITY, 75});
+  m.Add("image", jpeg);
+  std::vector<float> xy;
+  xy.reserve(2 * f->keypoints.size());
+  for (const cv::Point2f& p : f->keypoints) xy.insert(xy.end(), {p.x, p.y});
+  m.Add("keypoints", xy);
+  m.Add("labels", f->labels);
+  return m.Finish();
+}
+
+std::shared_ptr<const std::string> LiveSource::EncodeMap(std::int64_t pieces_after) {
+  const MapSnapshot map = system_.SnapshotMap();
+  MessageBuilder m("map");
+  std::vector<std::uint32_t> kf_ids;
+  std::vector<float> kf_poses;
+  for (const KeyFramePose& k : map.keyframes) {
+    kf_ids.push_back(static_cast<std::uint32_t>(k.id));
+    const std::vector<float> T = Matrix(k.T_w_c);
+    kf_poses.insert(kf_poses.end(), T.begin(), T.end());
+  }
+  m.Add("keyframe_ids", kf_ids);
+  m.Add("keyframe_poses", kf_poses);
+  std::vector<float> points;
+  points.reserve(3 * map.points.size());
+  for (const Eigen::Vector3d& p : map.points) {
+    points.insert(points.end(), {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())});
+  }
+  m.Add("points", points);
+  {
+    std::lock_guard lock(mutex_);
+    m.Add("path", path_);
+  }
+  // The cloud: every piece's pose; the points of the pieces the page lacks.
+  std::vector<std::uint32_t> piece_ids, new_ids, new_counts;
+  std::vector<float> piece_poses, xyz;
+  std::vector<std::uint8_t> rgb;
+  for (const CloudPiece& piece : map.cloud) {
+    piece_ids.push_back(static_cast<std::uint32_t>(piece.keyframe_id));
+    const std::vector<float> T = Matrix(piece.T_w_c);
+    piece_poses.insert(piece_poses.end(), T.begin(), T.end());
+    if (static_cast<std::int64_t>(piece.keyframe_id) <= pieces_after || !piece.points_c) continue;
+    const std::vector<ColoredPoint>& pts = *piece.points_c;
+    const std::size_t step = (pts.size() + kMaxPiecePoints - 1) / kMaxPiecePoints;
+    std::uint32_t n = 0;
+    for (std::size_t i = 0; i < pts.size(); i += std::max<std::size_t>(step, 1), ++n) {
+      xyz.insert(xyz.end(), {pts[i].p.x(), pts[i].p.y(), pts[i].p.z()});
+      rgb.insert(rgb.end(), {pts[i].rgb[0], pts[i].rgb[1], pts[i].rgb[2]});
+    }
+    new_ids.push_back(static_cast<std::uint32_t>(piece.keyframe_id));
+    new_counts.push_back(n);
+  }
+  m.Add("piece_ids", piece_ids);
+  m.Add("piece_poses", piece_poses);
+  m.Add("new_piece_ids", new_ids);
+  m.Add("new_piece_counts", new_counts);
+  m.Add("new_piece_xyz", xyz);
+  m.Add("new_piece_rgb", rgb);
+  nlohmann::json objects = nlohmann::json::array();
+  for (const ObjectEstimate& o : map.objects) {
+    if (!o.exported) continue;
+    objects.push_back({{"id", o.id},
+                       {"name", o.class_name},
+                       {"confidence", o.confidence},
+                       {"observations", o.observations},
+                       {"centroid", {o.centroid.x(), o.centroid.y(), o.centroid.z()}},
+                       {"size", {o.size.x(), o.size.y(), o.size.z()}}});
+  }
+  m.header()["objects"] = std::move(objects);
+  return m.Finish();
+}
+
+bool LiveSource::Control(const std::string& what) {
+  if (what == "pause") {
+    pause_.Pause();
+  } else if (what == "resume") {
+    pause_.Resume();
+  } else if (what == "step") {
+    pause_.Step();
+  } else {
+    return false;
+  }
+  return true;
+}
+
+}  // namespace sgslam::viewer

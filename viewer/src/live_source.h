@@ -1,0 +1,53 @@
+// What a running `sgslam run --viewer` shows: the system's snapshots
+// (system/snapshot.h), encoded for the page on the viewer's thread, and the
+// page's pause and step.
+#pragma once
+
+#include <deque>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "pause.h"
+#include "server.h"
+#include "sgslam/system/slam_system.h"
+
+namespace sgslam::viewer {
+
+class LiveSource : public Source {
+ public:
+  // info: what the page says of the run (dataset, mode, frames, ...).
+  LiveSource(const SlamSystem& system, nlohmann::json info) : system_(system), info_(std::move(info)) {}
+
+  // The run's thread, after each frame: remembers the frame's place and counts, and
+  // tells the server (set_server) that a new frame is there. Cheap, never blocks.
+  void AddFrame(const FrameReport& report);
+  void set_server(Server* server) { server_ = server; }
+
+  PauseControl& pause() { return pause_; }
+
+  std::uint64_t FrameVersion() const override;
+  std::shared_ptr<const std::string> EncodeFrame() override;
+  std::shared_ptr<const std::string> EncodeMap(std::int64_t pieces_after) override;
+  nlohmann::json Info() const override { return info_; }
+  bool Control(const std::string& what) override;
+
+  // Points a keyframe's cloud piece keeps at most (an even subsample): the page
+  // draws 700 keyframes in 490k points.
+  static constexpr std::size_t kMaxPiecePoints = 700;
+
+ private:
+  const SlamSystem& system_;
+  const nlohmann::json info_;
+  Server* server_ = nullptr;
+  PauseControl pause_;
+
+  mutable std::mutex mutex_;  // the fields below: written by the run's thread, read by the viewer's
+  std::uint64_t version_ = 0;
+  std::vector<float> path_;            // m, world: every tracked frame's position as tracked
+  std::deque<double> arrivals_;        // s, steady clock: the last frames' arrival, for fps
+  int keyframes_ = 0, map_points_ = 0, kept_ = 0, rejected_ = 0;
+  std::size_t frames_ = 0, lost_ = 0;
+};
+
+}  // namespace sgslam::viewer

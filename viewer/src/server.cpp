@@ -1,0 +1,343 @@
+#include "server.h"
+
+#include <algorithm>
+#include <cctype>
+#include <deque>
+#include <optional>
+#include <fstream>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include <boost/asio.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+#include <spdlog/spdlog.h>
+
+#include "sgslam/common/error.h"
+#include "sgslam/common/thread_name.h"
+
+namespace sgslam::viewer {
+
+namespace beast = boost::beast;
+namespace http = beast::http;
+namespace websocket = beast::websocket;
+namespace net = boost::asio;
+using tcp = net::ip::tcp;
+
+namespace {
+
+constexpr std::size_t kMaxRequestBytes = 8 * 1024;  // an HTTP request's header and body
+constexpr std::size_t kMaxPageMessage = 1024;       // what the page sends is a line of JSON
+constexpr auto kHttpTimeout = std::chrono::seconds(30);
+
+const char* ContentType(const std::filesystem::path& p) {
+  const std::string e = p.extension().string();
+  if (e == ".html") return "text/html; charset=utf-8";
+  if (e == ".js") return "text/javascript; charset=utf-8";
+  if (e == ".css") return "text/css; charset=utf-8";
+  if (e == ".png") return "image/png";
+  if (e == ".svg") return "image/svg+xml";
+  return "application/octet-stream";
+}
+
+// The file under root that target names, or nothing: only plain names of letters,
+// digits and ._- in folders, no "..", no hidden files, no folders themselves.
+std::optional<std::filesystem::path> AssetPath(const std::filesystem::path& root, std::string_view target) {
+  if (const auto q = target.find_first_of("?#"); q != std::string_view::npos) target = target.substr(0, q);
+  if (target.empty() || target[0] != '/') return std::nullopt;
+  std::string rel(target.substr(1));
+  if (rel.empty()) rel = "index.html";
+  if (rel.size() > 200) return std::nullopt;
+  for (char c : rel) {
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '.' && c != '_' && c != '-' && c != '/') return std::nullopt;
+  }
+  std::stringstream parts(rel);
+  for (std::string part; std::getline(parts, part, '/');) {
+    if (part.empty() || part[0] == '.') return std::nullopt;
+  }
+  std::error_code ec;
+  const std::filesystem::path p = root / rel;
+  if (!std::filesystem::is_regular_file(p, ec)) return std::nullopt;
+  const auto canonical = std::filesystem::canonical(p, ec);
+  if (ec) return std::nullopt;
+  const auto root_c = std::filesystem::canonical(root, ec);
+  if (ec) return std::nullopt;
+  const auto [r, c] = std::mismatch(root_c.begin(), root_c.end(), canonical.begin(), canonical.end());
+  if (r != root_c.end()) return std::nullopt;  // a link out of the assets
+  return canonical;
+}
+
+std::optional<std::string> ReadWhole(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  if (!in) return std::nullopt;
+  std::ostringstream s;
+  s << in.rdbuf();
+  if (!in && !in.eof()) return std::nullopt;
+  return s.str();
+}
+
+}  // namespace
+
+class WsSession;
+
+struct Server::Impl {
+  Impl(ServerOptions o, Source& s) : options(std::move(o)), source(s) {}
+
+  void Accept();
+  void StartHttp(tcp::socket socket);
+  void Deliver();  // on the server's thread: the new frame to the pages waiting
+
+  ServerOptions options;
+  Source& source;
+  net::io_context ioc{1};
+  tcp::acceptor acceptor{ioc};
+  std::set<std::shared_ptr<WsSession>> sessions;  // the server's thread only
+  std::atomic<std::size_t> clients{0};
+  std::uint16_t port = 0;
+  std::thread thread;
+};
+
+// One page's WebSocket: reads its requests, writes at most one message at a time,
+// keeps at most kMaxQueued waiting.
+class WsSession : public std::enable_shared_from_this<WsSession> {
+ public:
+  WsSession(tcp::socket socket, Server::Impl& server) : ws_(std::move(socket)), server_(server) {}
+
+  void Start(http::request<http::string_body> request) {
+    ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+    ws_.read_message_max(kMaxPageMessage);
+    ws_.binary(true);
+    ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
+      if (ec) return self->Close();
+      self->Read();
+    });
+  }
+
+  bool wants_frame() const { return wants_frame_; }
+
+  // The frame the page waits for, if it waits.
+  void DeliverFrame(const std::shared_ptr<const std::string>& frame) {
+    if (!wants_frame_ || !frame) return;
+    wants_frame_ = false;
+    Send(frame);
+  }
+
+  void Close() {
+    if (closed_) return;
+    closed_ = true;
+    beast::error_code ignored;
+    beast::get_lowest_layer(ws_).socket().shutdown(tcp::socket::shutdown_both, ignored);
+    beast::get_lowest_layer(ws_).socket().close(ignored);
+    if (server_.sessions.erase(shared_from_this()) > 0) --server_.clients;
+  }
+
+ private:
+  void Read() {
+    ws_.async_read(in_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
+      if (ec) return self->Close();
+      const bool ok = self->ws_.got_text() && self->Handle(beast::buffers_to_string(self->in_.data()));
+      self->in_.consume(self->in_.size());
+      if (!ok) {
+        spdlog::warn("viewer: a page sent a message that is not a request; its connection is closed");
+        return self->Close();
+      }
+      self->Read();
+    });
+  }
+
+  // {"get": "frame", "have": N} | {"get": "map", "pieces_after": ID} | {"get": "info"} | {"control": "pause"}
+  bool Handle(const std::string& text) {
+    const nlohmann::json m = nlohmann::json::parse(text, nullptr, false);
+    if (!m.is_object()) return false;
+    Source& source = server_.source;
+    if (m.contains("control")) {
+      if (!m["control"].is_string()) return false;
+      source.Control(m["control"].get<std::string>());
+      return true;
+    }
+    if (!m.contains("get") || !m["get"].is_string()) return false;
+    const std::string what = m["get"].get<std::string>();
+    if (what == "info") {
+      nlohmann::json info = source.Info();
+      info["type"] = "info";
+      const std::string text_out = info.dump();
+      std::string msg(4, '\0');
+      for (int i = 0; i < 4; ++i) msg[i] = static_cast<char>((text_out.size() >> (8 * i)) & 0xff);
+      msg += text_out;
+      msg.append((4 - msg.size() % 4) % 4, '\0');
+      Send(std::make_shared<const std::string>(std::move(msg)));
+    } else if (what == "frame") {
+      if (!m.contains("have") || !m["have"].is_number_unsigned()) return false;
+      wants_frame_ = true;
+      if (source.FrameVersion() > m["have"].get<std::uint64_t>()) DeliverFrame(source.EncodeFrame());
+    } else if (what == "map") {
+      if (!m.contains("pieces_after") || !m["pieces_after"].is_number_integer()) return false;
+      if (auto map = source.EncodeMap(m["pieces_after"].get<std::int64_t>())) Send(map);
+    } else {
+      return false;
+    }
+    return true;
+  }
+
+  void Send(std::shared_ptr<const std::string> message) {
+    if (closed_) return;
+    // Full: drop the oldest waiting message (never the one being written).
+    if (queue_.size() >= Server::kMaxQueued) queue_.erase(queue_.begin() + (writing_ ? 1 : 0));
+    queue_.push_back(std::move(message));
+    if (!writing_) Write();
+  }
+
+  void Write() {
+    writing_ = true;
+    ws_.async_write(net::buffer(*queue_.front()), [self = shared_from_this()](beast::error_code ec, std::size_t) {
+      self->queue_.pop_front();
+      self->writing_ = false;
+      if (ec) return self->Close();
+      if (!self->queue_.empty()) self->Write();
+    });
+  }
+
+  websocket::stream<beast::tcp_stream> ws_;
+  Server::Impl& server_;
+  beast::flat_buffer in_;
+  std::deque<std::shared_ptr<const std::string>> queue_;
+  bool writing_ = false, wants_frame_ = false, closed_ = false;
+};
+
+// One HTTP connection: files until it asks to become the WebSocket.
+class HttpSession : public std::enable_shared_from_this<HttpSession> {
+ public:
+  HttpSession(tcp::socket socket, Server::Impl& server) : stream_(std::move(socket)), server_(server) {}
+
+  void Read() {
+    parser_.emplace();
+    parser_->header_limit(kMaxRequestBytes);
+    parser_->body_limit(kMaxRequestBytes);
+    stream_.expires_after(kHttpTimeout);
+    http::async_read(stream_, buffer_, *parser_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
+      if (ec) return self->Close();
+      self->Handle(self->parser_->release());
+    });
+  }
+
+ private:
+  void Handle(http::request<http::string_body> req) {
+    if (websocket::is_upgrade(req)) {
+      if (req.target() != "/ws") return Close();
+      stream_.expires_never();
+      auto ws = std::make_shared<WsSession>(stream_.release_socket(), server_);
+      server_.sessions.insert(ws);
+      ++server_.clients;
+      ws->Start(std::move(req));
+      return;
+    }
+    auto res = std::make_shared<http::response<http::string_body>>();
+    res->version(req.version());
+    res->keep_alive(req.keep_alive());
+    res->set(http::field::server, "sgslam viewer");
+    res->set(http::field::cache_control, "no-cache");
+    res->set("X-Content-Type-Options", "nosniff");
+    std::optional<std::string> body;
+    std::optional<std::filesystem::path> path;
+    if (req.method() != http::verb::get && req.method() != http::verb::head) {
+      res->result(http::status::method_not_allowed);
+    } else if (!(path = AssetPath(server_.options.assets, req.target())) || !(body = ReadWhole(*path))) {
+      res->result(http::status::not_found);
+      res->set(http::field::content_type, "text/plain; charset=utf-8");
+      res->body() = "not found\n";
+    } else {
+      res->result(http::status::ok);
+      res->set(http::field::content_type, ContentType(*path));
+      res->set("Content-Security-Policy",
+               "default-src 'self'; img-src 'self' blob: data:; connect-src 'self'; style-src 'self'");
+      if (req.method() == http::verb::get) res->body() = std::move(*body);
+    }
+    res->prepare_payload();
+    http::async_write(stream_, *res, [self = shared_from_this(), res](beast::error_code ec, std::size_t) {
+      if (ec || !res->keep_alive()) return self->Close();
+      self->Read();
+    });
+  }
+
+  void Close() {
+    beast::error_code ignored;
+    stream_.socket().shutdown(tcp::socket::shutdown_both, ignored);
+    stream_.socket().close(ignored);
+  }
+
+  beast::tcp_stream stream_;
+  Server::Impl& server_;
+  beast::flat_buffer buffer_;
+  std::optional<http::request_parser<http::string_body>> parser_;
+};
+
+void Server::Impl::Accept() {
+  acceptor.async_accept([this](beast::error_code ec, tcp::socket socket) {
+    if (ec == net::error::operation_aborted) return;
+    if (!ec) std::make_shared<HttpSession>(std::move(socket), *this)->Read();
+    Accept();
+  });
+}
+
+void Server::Impl::Deliver() {
+  if (std::none_of(sessions.begin(), sessions.end(), [](const auto& s) { return s->wants_frame(); })) return;
+  const auto frame = source.EncodeFrame();  // once for every page
+  const auto copy = sessions;               // a failed write may close (erase) a session
+  for (const auto& s : copy) s->DeliverFrame(frame);
+}
+
+Server::Server(ServerOptions options, Source& source) : impl_(std::make_unique<Impl>(std::move(options), source)) {
+  Impl& m = *impl_;
+  if (!std::filesystem::is_regular_file(m.options.assets / "index.html")) {
+    throw Error("viewer: no index.html in " + m.options.assets.string() +
+                " (the page's files; built with the viewer, see docs/viewer.md)");
+  }
+  beast::error_code ec;
+  const auto address = net::ip::make_address(m.options.address, ec);
+  if (ec) throw InputError("viewer: '" + m.options.address + "' is not an IP address");
+  const tcp::endpoint endpoint(address, m.options.port);
+  const std::string where = m.options.address + ":" + std::to_string(m.options.port);
+  m.acceptor.open(endpoint.protocol(), ec);
+  if (!ec) m.acceptor.set_option(net::socket_base::reuse_address(true), ec);
+  if (!ec) m.acceptor.bind(endpoint, ec);
+  if (!ec) m.acceptor.listen(net::socket_base::max_listen_connections, ec);
+  if (ec) throw InputError("viewer: cannot listen on " + where + ": " + ec.message());
+  m.port = m.acceptor.local_endpoint().port();
+  m.Accept();
+  m.thread = std::thread([&m] {
+    NameThisThread("sg-viewer");
+    for (;;) {
+      try {
+        m.ioc.run();
+        return;
+      } catch (const std::exception& e) {  // a source that threw: log and serve on
+        spdlog::error("viewer: {}", e.what());
+      }
+    }
+  });
+}
+
+Server::~Server() {
+  // The connections close with the io_context (after the sessions, declared later).
+  impl_->ioc.stop();
+  impl_->thread.join();
+}
+
+std::uint16_t Server::port() const { return impl_->port; }
+
+std::string Server::url() const {
+  const std::string& a = impl_->options.address;
+  const std::string host = a.find(':') != std::string::npos ? "[" + a + "]" : a;
+  return "http://" + host + ":" + std::to_string(impl_->port) + "/";
+}
+
+void Server::NotifyFrame() {
+  Impl& m = *impl_;
+  net::post(m.ioc, [&m] { m.Deliver(); });
+}
+
+std::size_t Server::clients() const { return impl_->clients.load(); }
+
+}  // namespace sgslam::viewer

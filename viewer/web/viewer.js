@@ -1,0 +1,314 @@
+// sgslam's viewer page: pulls frames and the map from the server over one
+// WebSocket (viewer/src/server.h) and draws them with three.js.
+import * as THREE from './three/three.module.js';
+import { OrbitControls } from './three/OrbitControls.js';
+import { parseMessage } from './protocol.js';
+
+const MAP_INTERVAL_MS = 500;  // the map is asked for again this long after one is drawn
+const LABEL_COLOURS = ['#3ddc84', '#ff4d4d', '#ffd23d'];  // kept, rejected, unjudged
+
+// What the tests read (viewer/tests): counts of what arrived and was drawn.
+const state = { info: null, frames: 0, maps: 0, frame: null, mapPoints: 0, cloudPoints: 0, pieces: 0,
+                objects: 0, keyframes: 0, renders: 0, renderFps: 0, errors: [] };
+window.sgslamViewer = state;
+
+// ---- the 3-D view ----------------------------------------------------------
+const container = document.getElementById('view3d');
+const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+renderer.setPixelRatio(window.devicePixelRatio);
+container.appendChild(renderer.domElement);
+const scene = new THREE.Scene();
+scene.background = new THREE.Color(0x15181c);
+const camera = new THREE.PerspectiveCamera(60, 1, 0.01, 500);
+camera.position.set(0, 2, 4);
+const controls = new OrbitControls(camera, renderer.domElement);
+// The SLAM world is the first camera's frame (x right, y down, z forward): turned
+// half a turn about x, y is up and the camera looks along -z as in three.js.
+const world = new THREE.Group();
+world.rotation.x = Math.PI;
+scene.add(world);
+scene.add(new THREE.GridHelper(20, 40, 0x3a424b, 0x262c33));
+
+const layers = {};
+for (const name of ['path', 'keyframes', 'points', 'cloud', 'objects', 'camera']) {
+  layers[name] = new THREE.Group();
+  world.add(layers[name]);
+}
+
+const pathLine = new THREE.Line(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: 0x4da3ff }));
+layers.path.add(pathLine);
+const keyframeLines = new THREE.LineSegments(new THREE.BufferGeometry(),
+                                             new THREE.LineBasicMaterial({ color: 0x8e7dff }));
+layers.keyframes.add(keyframeLines);
+const mapPoints = new THREE.Points(new THREE.BufferGeometry(),
+                                  new THREE.PointsMaterial({ color: 0xeeeeee, size: 2, sizeAttenuation: false }));
+layers.points.add(mapPoints);
+const cloudMaterial = new THREE.PointsMaterial({ size: 2, sizeAttenuation: false, vertexColors: true });
+const pieces = new Map();  // keyframe id -> THREE.Points, placed by its keyframe's pose
+
+// A camera drawn as a pyramid: its centre and the image's corners at depth d.
+function frustumSegments(d) {
+  const w = 0.66 * d, h = 0.5 * d;
+  const c = [[-w, -h, d], [w, -h, d], [w, h, d], [-w, h, d]];
+  const s = [];
+  for (let i = 0; i < 4; i++) s.push([0, 0, 0], c[i], c[i], c[(i + 1) % 4]);
+  return s.flat();
+}
+const FRUSTUM = frustumSegments(0.08);
+const currentCamera = new THREE.LineSegments(
+  new THREE.BufferGeometry().setAttribute('position', new THREE.Float32BufferAttribute(frustumSegments(0.15), 3)),
+  new THREE.LineBasicMaterial({ color: 0x3ddc84 }));
+currentCamera.matrixAutoUpdate = false;
+currentCamera.visible = false;
+layers.camera.add(currentCamera);
+
+function resize() {
+  const w = container.clientWidth, h = container.clientHeight;
+  renderer.setSize(w, h, false);
+  renderer.domElement.style.width = w + 'px';
+  renderer.domElement.style.height = h + 'px';
+  camera.aspect = w / Math.max(h, 1);
+  camera.updateProjectionMatrix();
+}
+window.addEventListener('resize', resize);
+resize();
+
+let renderCount = 0, renderSince = performance.now();
+function animate() {
+  controls.update();
+  renderer.render(scene, camera);
+  state.renders++;
+  renderCount++;
+  const now = performance.now();
+  if (now - renderSince >= 1000) {
+    state.renderFps = (1000 * renderCount) / (now - renderSince);
+    renderCount = 0;
+    renderSince = now;
+  }
+  requestAnimationFrame(animate);
+}
+requestAnimationFrame(animate);
+
+// ---- following the camera, top view, layers ----------------------------------
+const follow = document.getElementById('c-follow');
+const cameraWorld = new THREE.Vector3();
+function followCamera() {
+  if (!follow.checked || !currentCamera.visible) return;
+  currentCamera.getWorldPosition(cameraWorld);
+  const offset = camera.position.clone().sub(controls.target);
+  controls.target.copy(cameraWorld);
+  camera.position.copy(cameraWorld).add(offset);
+}
+document.getElementById('b-top').addEventListener('click', () => {
+  const distance = Math.max(camera.position.distanceTo(controls.target), 3);
+  camera.position.set(controls.target.x, controls.target.y + distance, controls.target.z + 0.001);
+  camera.lookAt(controls.target);
+});
+for (const box of document.querySelectorAll('#layers input')) {
+  box.addEventListener('change', () => { layers[box.dataset.layer].visible = box.checked; });
+}
+
+// ---- the current frame ---------------------------------------------------------
+const imageCanvas = document.getElementById('image');
+const ctx = imageCanvas.getContext('2d');
+
+async function drawFrame(header, buffers) {
+  if (buffers.image && buffers.image.length > 0) {
+    const bitmap = await createImageBitmap(new Blob([buffers.image], { type: 'image/jpeg' }));
+    if (imageCanvas.width !== bitmap.width) imageCanvas.width = bitmap.width;
+    if (imageCanvas.height !== bitmap.height) imageCanvas.height = bitmap.height;
+    ctx.drawImage(bitmap, 0, 0);
+    bitmap.close();
+  }
+  const xy = buffers.keypoints, labels = buffers.labels;
+  for (let i = 0; xy && i < labels.length; i++) {
+    ctx.strokeStyle = LABEL_COLOURS[labels[i]] || '#ffffff';
+    ctx.strokeRect(xy[2 * i] - 2, xy[2 * i + 1] - 2, 4, 4);
+  }
+  ctx.font = '13px system-ui, sans-serif';
+  ctx.lineWidth = 2;
+  for (const d of header.detections) {
+    const [x, y, w, h] = d.box;
+    ctx.strokeStyle = d.carried ? '#ff9f43' : '#4da3ff';
+    ctx.strokeRect(x, y, w, h);
+    const text = `${d.name} ${d.score.toFixed(2)}${d.carried ? ' (carried)' : ''}`;
+    ctx.fillStyle = 'rgba(0,0,0,0.6)';
+    ctx.fillRect(x, Math.max(y - 16, 0), ctx.measureText(text).width + 6, 16);
+    ctx.fillStyle = '#ffffff';
+    ctx.fillText(text, x + 3, Math.max(y - 4, 12));
+  }
+  ctx.lineWidth = 1;
+}
+
+function setText(id, text) { document.getElementById(id).textContent = text; }
+
+function showFrame(header, buffers) {
+  state.frames++;
+  state.frame = header;
+  if (header.pose) {
+    currentCamera.matrix.fromArray(header.pose);
+    currentCamera.visible = true;
+    followCamera();
+  }
+  setText('p-frame', `${header.index + 1}${state.info && state.info.frames ? ' of ' + state.info.frames : ''}`);
+  setText('p-state', header.state + (header.keyframe ? ' (keyframe)' : '') + (header.paused ? ', paused' : ''));
+  setText('p-ms', `${header.frame_ms.toFixed(1)} ms`);
+  setText('p-fps', header.fps.toFixed(1));
+  setText('p-rejected', `${(100 * header.rejected_share).toFixed(1)} %`);
+  setText('p-keyframes', header.keyframes);
+  setText('p-points', header.map_points);
+  return drawFrame(header, buffers);
+}
+
+// ---- the map ------------------------------------------------------------------------
+function setPositions(geometry, array) {
+  geometry.setAttribute('position', new THREE.BufferAttribute(array, 3));
+  geometry.computeBoundingSphere();
+}
+
+const objectBoxes = new THREE.Group();
+layers.objects.add(objectBoxes);
+function label(text) {
+  const c = document.createElement('canvas');
+  c.width = 256; c.height = 48;
+  const g = c.getContext('2d');
+  g.fillStyle = 'rgba(0,0,0,0.6)';
+  g.fillRect(0, 0, 256, 48);
+  g.font = '28px system-ui, sans-serif';
+  g.fillStyle = '#ffd23d';
+  g.fillText(text, 8, 34);
+  const sprite = new THREE.Sprite(new THREE.SpriteMaterial({ map: new THREE.CanvasTexture(c), depthTest: false }));
+  sprite.scale.set(0.4, 0.075, 1);
+  sprite.rotation.x = Math.PI;  // the world group's turn would show it upside down
+  return sprite;
+}
+function showObjects(objects) {
+  for (const child of [...objectBoxes.children]) {
+    objectBoxes.remove(child);
+    child.traverse((o) => { o.geometry?.dispose(); o.material?.map?.dispose(); o.material?.dispose(); });
+  }
+  for (const o of objects) {
+    const box = new THREE.LineSegments(new THREE.EdgesGeometry(new THREE.BoxGeometry(...o.size)),
+                                       new THREE.LineBasicMaterial({ color: 0xffd23d }));
+    box.position.set(...o.centroid);
+    objectBoxes.add(box);
+    const l = label(`${o.name} ${o.confidence.toFixed(2)}`);
+    l.position.set(o.centroid[0], o.centroid[1] - o.size[1] / 2 - 0.08, o.centroid[2]);
+    objectBoxes.add(l);
+  }
+  state.objects = objects.length;
+  setText('p-objects', objects.length);
+}
+
+function showMap(header, b) {
+  state.maps++;
+  setPositions(mapPoints.geometry, b.points);
+  state.mapPoints = b.points.length / 3;
+  setPositions(pathLine.geometry, b.path);
+  // Keyframes: a small pyramid each, placed by its pose.
+  const n = b.keyframe_ids.length, segs = new Float32Array(n * FRUSTUM.length);
+  const m = new THREE.Matrix4(), v = new THREE.Vector3();
+  for (let k = 0; k < n; k++) {
+    m.fromArray(b.keyframe_poses, 16 * k);
+    for (let i = 0; i < FRUSTUM.length; i += 3) {
+      v.set(FRUSTUM[i], FRUSTUM[i + 1], FRUSTUM[i + 2]).applyMatrix4(m);
+      segs.set([v.x, v.y, v.z], k * FRUSTUM.length + i);
+    }
+  }
+  setPositions(keyframeLines.geometry, segs);
+  state.keyframes = n;
+  // The cloud: new pieces, every piece moved to its keyframe's pose, gone ones dropped.
+  let offset = 0;
+  for (let i = 0; i < b.new_piece_ids.length; i++) {
+    const count = b.new_piece_counts[i];
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.BufferAttribute(b.new_piece_xyz.slice(3 * offset, 3 * (offset + count)), 3));
+    g.setAttribute('color', new THREE.BufferAttribute(b.new_piece_rgb.slice(3 * offset, 3 * (offset + count)), 3, true));
+    g.computeBoundingSphere();
+    const p = new THREE.Points(g, cloudMaterial);
+    p.matrixAutoUpdate = false;
+    pieces.set(b.new_piece_ids[i], p);
+    layers.cloud.add(p);
+    offset += count;
+  }
+  const present = new Set();
+  for (let i = 0; i < b.piece_ids.length; i++) {
+    const p = pieces.get(b.piece_ids[i]);
+    present.add(b.piece_ids[i]);
+    if (p) p.matrix.fromArray(b.piece_poses, 16 * i);
+  }
+  let cloudPoints = 0;
+  for (const [id, p] of pieces) {
+    if (!present.has(id)) {
+      layers.cloud.remove(p);
+      p.geometry.dispose();
+      pieces.delete(id);
+    } else {
+      cloudPoints += p.geometry.attributes.position.count;
+    }
+  }
+  state.pieces = pieces.size;
+  state.cloudPoints = cloudPoints;
+  showObjects(header.objects);
+}
+
+// ---- the connection -------------------------------------------------------------------
+const status = document.getElementById('status');
+const pauseButton = document.getElementById('b-pause');
+const stepButton = document.getElementById('b-step');
+let socket = null;
+
+function send(message) {
+  if (socket && socket.readyState === WebSocket.OPEN) socket.send(JSON.stringify(message));
+}
+function maxPieceId() {
+  let max = -1;
+  for (const id of pieces.keys()) max = Math.max(max, id);
+  return max;
+}
+
+pauseButton.addEventListener('click', () => {
+  const paused = pauseButton.textContent === 'resume';
+  send({ control: paused ? 'resume' : 'pause' });
+  pauseButton.textContent = paused ? 'pause' : 'resume';
+});
+stepButton.addEventListener('click', () => {
+  send({ control: 'step' });
+  pauseButton.textContent = 'resume';
+});
+
+function connect() {
+  socket = new WebSocket(`ws://${location.host}/ws`);
+  socket.binaryType = 'arraybuffer';
+  socket.onopen = () => {
+    status.textContent = '';
+    send({ get: 'info' });
+    send({ get: 'frame', have: 0 });
+    send({ get: 'map', pieces_after: maxPieceId() });
+  };
+  socket.onmessage = async (event) => {
+    try {
+      const { header, buffers } = parseMessage(event.data);
+      if (header.type === 'info') {
+        state.info = header;
+        setText('p-run', `${header.live ? 'live' : 'finished run'}: ${header.dataset} (${header.mode})`);
+        document.title = `sgslam viewer: ${header.dataset}`;
+        pauseButton.disabled = stepButton.disabled = !header.pausable;
+      } else if (header.type === 'frame') {
+        await showFrame(header, buffers);
+        send({ get: 'frame', have: header.version });
+      } else if (header.type === 'map') {
+        showMap(header, buffers);
+        setTimeout(() => send({ get: 'map', pieces_after: maxPieceId() }), MAP_INTERVAL_MS);
+      }
+    } catch (e) {
+      state.errors.push(String(e));
+      status.textContent = `error: ${e}`;
+    }
+  };
+  socket.onclose = () => {
+    status.textContent = 'disconnected (the run has ended or the server stopped); retrying…';
+    setTimeout(connect, 2000);
+  };
+}
+connect();
