@@ -21,6 +21,7 @@ Action AddDemoCommand(CLI::App& root);
 Action AddConfigCommand(CLI::App& root);
 Action AddVocabCommand(CLI::App& root);
 Action AddMapCommand(CLI::App& root);
+Action AddViewCommand(CLI::App& root);
 
 // Exit statuses shared by every subcommand.
 constexpr int kExitOk = 0;

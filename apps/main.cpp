@@ -79,6 +79,7 @@ int main(int argc, char** argv) {
   add(AddConfigCommand(root));
   add(AddVocabCommand(root));
   add(AddMapCommand(root));
+  add(AddViewCommand(root));
 
   try {
     root.parse(argc, argv);

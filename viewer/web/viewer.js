@@ -9,7 +9,7 @@ const LABEL_COLOURS = ['#3ddc84', '#ff4d4d', '#ffd23d'];  // kept, rejected, unj
 
 // What the tests read (viewer/tests): counts of what arrived and was drawn.
 const state = { info: null, frames: 0, maps: 0, frame: null, mapPoints: 0, cloudPoints: 0, pieces: 0,
-                objects: 0, keyframes: 0, renders: 0, renderFps: 0, errors: [] };
+                objects: 0, keyframes: 0, cells: 0, renders: 0, renderFps: 0, errors: [] };
 window.sgslamViewer = state;
 
 // ---- the 3-D view ----------------------------------------------------------
@@ -30,13 +30,16 @@ scene.add(world);
 scene.add(new THREE.GridHelper(20, 40, 0x3a424b, 0x262c33));
 
 const layers = {};
-for (const name of ['path', 'keyframes', 'points', 'cloud', 'objects', 'camera']) {
+for (const name of ['path', 'truth', 'keyframes', 'points', 'cloud', 'cells', 'objects', 'camera']) {
   layers[name] = new THREE.Group();
   world.add(layers[name]);
 }
 
 const pathLine = new THREE.Line(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: 0x4da3ff }));
 layers.path.add(pathLine);
+const truthLine = new THREE.Line(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: 0xff9f43 }));
+layers.truth.add(truthLine);
+let cells = null;  // the OctoMap's occupied cells: one instanced cube each, coloured by height
 const keyframeLines = new THREE.LineSegments(new THREE.BufferGeometry(),
                                              new THREE.LineBasicMaterial({ color: 0x8e7dff }));
 layers.keyframes.add(keyframeLines);
@@ -105,6 +108,7 @@ document.getElementById('b-top').addEventListener('click', () => {
   camera.lookAt(controls.target);
 });
 for (const box of document.querySelectorAll('#layers input')) {
+  layers[box.dataset.layer].visible = box.checked;
   box.addEventListener('change', () => { layers[box.dataset.layer].visible = box.checked; });
 }
 
@@ -200,8 +204,51 @@ function showObjects(objects) {
   setText('p-objects', objects.length);
 }
 
+function showCells(c) {
+  if (cells) {
+    layers.cells.remove(cells);
+    cells.geometry.dispose();
+    cells.material.dispose();
+    cells = null;
+  }
+  const n = c.length / 4;
+  state.cells = n;
+  if (n === 0) return;
+  let low = Infinity, high = -Infinity;
+  for (let i = 0; i < n; i++) { low = Math.min(low, c[4 * i + 1]); high = Math.max(high, c[4 * i + 1]); }
+  cells = new THREE.InstancedMesh(new THREE.BoxGeometry(1, 1, 1), new THREE.MeshBasicMaterial(), n);
+  const m = new THREE.Matrix4(), colour = new THREE.Color();
+  for (let i = 0; i < n; i++) {
+    const size = c[4 * i + 3];
+    m.makeScale(size, size, size).setPosition(c[4 * i], c[4 * i + 1], c[4 * i + 2]);
+    cells.setMatrixAt(i, m);
+    // y points down in the world: the highest cells (least y) are red, the lowest blue.
+    colour.setHSL((0.66 * (c[4 * i + 1] - low)) / Math.max(high - low, 1e-6), 0.8, 0.5);
+    cells.setColorAt(i, colour);
+  }
+  layers.cells.add(cells);
+}
+
+// The first map of a finished run: the view is moved to see all of it, from above
+// and behind the first camera.
+function fitView(points) {
+  const box = new THREE.Box3().setFromBufferAttribute(new THREE.BufferAttribute(points, 3));
+  if (box.isEmpty()) return;
+  box.applyMatrix4(world.matrixWorld);
+  const sphere = box.getBoundingSphere(new THREE.Sphere());
+  controls.target.copy(sphere.center);
+  camera.position.copy(sphere.center).add(new THREE.Vector3(0, 0.8, 1.2).multiplyScalar(1.6 * sphere.radius));
+  camera.lookAt(sphere.center);
+}
+
 function showMap(header, b) {
   state.maps++;
+  if (state.maps === 1 && state.info && !state.info.live) {
+    world.updateMatrixWorld();
+    fitView(b.points.length > 0 ? b.points : b.path);
+  }
+  if (b.truth) setPositions(truthLine.geometry, b.truth);
+  if (b.cells) showCells(b.cells);
   setPositions(mapPoints.geometry, b.points);
   state.mapPoints = b.points.length / 3;
   setPositions(pathLine.geometry, b.path);
@@ -250,6 +297,10 @@ function showMap(header, b) {
   state.pieces = pieces.size;
   state.cloudPoints = cloudPoints;
   showObjects(header.objects);
+  if (state.info && !state.info.live) {
+    setText('p-keyframes', n);
+    setText('p-points', state.mapPoints);
+  }
 }
 
 // ---- the connection -------------------------------------------------------------------
@@ -294,12 +345,18 @@ function connect() {
         setText('p-run', `${header.live ? 'live' : 'finished run'}: ${header.dataset} (${header.mode})`);
         document.title = `sgslam viewer: ${header.dataset}`;
         pauseButton.disabled = stepButton.disabled = !header.pausable;
+        if (!header.live) {
+          imageCanvas.style.display = 'none';
+          setText('p-frame', `${header.frames} frames`);
+          setText('p-state', 'finished');
+        }
       } else if (header.type === 'frame') {
         await showFrame(header, buffers);
         send({ get: 'frame', have: header.version });
       } else if (header.type === 'map') {
         showMap(header, buffers);
-        setTimeout(() => send({ get: 'map', pieces_after: maxPieceId() }), MAP_INTERVAL_MS);
+        // A finished run's map does not change: asked for once.
+        if (state.info && state.info.live) setTimeout(() => send({ get: 'map', pieces_after: maxPieceId() }), MAP_INTERVAL_MS);
       }
     } catch (e) {
       state.errors.push(String(e));

@@ -1,0 +1,69 @@
+// sgslam view: a finished run's outputs in the viewer's web page, served until
+// Ctrl-C.
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <string>
+
+#include <spdlog/spdlog.h>
+
+#include "commands.h"
+#include "run_pipeline.h"
+#include "sgslam/common/data_dir.h"
+#include "sgslam/common/error.h"
+#include "stop_signals.h"
+
+#ifdef SGSLAM_WITH_VIEWER
+#include "run_folder_source.h"
+#include "server.h"
+#endif
+
+namespace sgslam::app {
+
+namespace {
+
+struct ViewOptions {
+  std::string folder, address = "127.0.0.1";
+  int port = kDefaultViewerPort;
+};
+
+int View(const ViewOptions& o) {
+#ifdef SGSLAM_WITH_VIEWER
+  const auto data = DataDir();
+  if (!data) throw Error("view: the page's files were not found (no share/sgslam beside the executable)");
+  if (o.address != "127.0.0.1" && o.address != "::1") {
+    spdlog::warn("view: serving on {}: anyone who can reach it can see this run", o.address);
+  }
+  const StopSignals stop;
+  viewer::RunFolderSource source(o.folder);
+  viewer::ServerOptions options;
+  options.address = o.address;
+  options.port = static_cast<std::uint16_t>(o.port);
+  options.assets = *data / "viewer";
+  viewer::Server server(options, source);
+  spdlog::info("view: {}: open {} in a web browser (Ctrl-C to stop)", o.folder, server.url());
+  StopSignals::WaitUntil(std::chrono::steady_clock::time_point::max());
+  return kExitOk;
+#else
+  (void)o;
+  throw InputError("view: this sgslam was built without the viewer (CMake option SGSLAM_VIEWER=OFF)");
+#endif
+}
+
+}  // namespace
+
+Action AddViewCommand(CLI::App& root) {
+  auto o = std::make_shared<ViewOptions>();
+  CLI::App* cmd = root.add_subcommand("view", "Show a finished run's outputs (an --out folder of run) in a web browser");
+  cmd->add_option("folder", o->folder, "The run's output folder (trajectory.txt, map_points.ply, cloud.ply, ...)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  cmd->add_option("--port", o->port, "Port (0: any free port)")->check(CLI::Range(0, 65535));
+  cmd->add_option("--address", o->address,
+                  "Address to serve on (default 127.0.0.1: this machine only; another lets anyone who can reach it "
+                  "see the run)");
+  return [o] { return View(*o); };
+}
+
+}  // namespace sgslam::app

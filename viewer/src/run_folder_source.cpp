@@ -1,0 +1,158 @@
+#include "run_folder_source.h"
+
+#include <fstream>
+
+#include <octomap/OcTree.h>
+#include <spdlog/spdlog.h>
+
+#include "message.h"
+#include "sgslam/common/error.h"
+#include "sgslam/eval/ate.h"
+#include "sgslam/io/ply.h"
+#include "sgslam/io/trajectory.h"
+
+namespace sgslam::viewer {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+void Push(std::vector<float>& out, const Eigen::Vector3d& p) {
+  out.insert(out.end(), {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())});
+}
+
+std::vector<float> Matrix(const SE3& T) {
+  const Eigen::Matrix4d m = T.matrix();
+  std::vector<float> out(16);
+  for (int c = 0; c < 4; ++c) {
+    for (int r = 0; r < 4; ++r) out[4 * c + r] = static_cast<float>(m(r, c));
+  }
+  return out;
+}
+
+nlohmann::json ReadJson(const fs::path& p) {
+  std::ifstream in(p);
+  nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  if (j.is_discarded()) throw InputError(p.string() + ": not valid JSON");
+  return j;
+}
+
+// The dataset's ground truth, moved into the run's world by the ATE alignment.
+std::vector<float> AlignedTruth(const nlohmann::json& stats, const Trajectory& trajectory) {
+  std::vector<float> out;
+  if (!stats.contains("dataset") || !stats["dataset"].is_string()) return out;
+  const fs::path gt_path = fs::path(stats["dataset"].get<std::string>()) / "groundtruth.txt";
+  std::error_code ec;
+  if (!fs::is_regular_file(gt_path, ec)) return out;
+  try {
+    const Trajectory gt = ReadTumTrajectory(gt_path);
+    const SE3 T_est_gt = eval::ComputeAte(gt, trajectory, FromSeconds(0.02)).T_gt_est.Inverse();
+    out.reserve(3 * gt.size());
+    for (const StampedPose& p : gt) Push(out, T_est_gt * p.T_w_c.translation());
+  } catch (const Error& e) {
+    spdlog::warn("view: no ground truth shown: {}", e.what());
+  }
+  return out;
+}
+
+// The OctoMap's occupied leaves: centre and side, 4 floats each.
+std::vector<float> OccupiedCells(const fs::path& path) {
+  std::vector<float> out;
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return out;
+  octomap::OcTree tree(0.05);
+  if (!tree.readBinary(path.string())) {
+    spdlog::warn("view: {} is not a readable OctoMap; not shown", path.string());
+    return out;
+  }
+  for (auto it = tree.begin_leafs(); it != tree.end_leafs(); ++it) {
+    if (!tree.isNodeOccupied(*it)) continue;
+    const octomap::point3d c = it.getCoordinate();
+    out.insert(out.end(), {c.x(), c.y(), c.z(), static_cast<float>(it.getSize())});
+  }
+  return out;
+}
+
+}  // namespace
+
+RunFolderSource::RunFolderSource(const fs::path& folder) {
+  std::error_code ec;
+  if (!fs::is_directory(folder, ec)) throw InputError("view: " + folder.string() + " is not a folder");
+  if (!fs::is_regular_file(folder / "trajectory.txt", ec)) {
+    throw InputError("view: " + folder.string() + " has no trajectory.txt (is it the --out folder of sgslam run?)");
+  }
+  const Trajectory trajectory = ReadTumTrajectory(folder / "trajectory.txt");
+  const nlohmann::json stats =
+      fs::is_regular_file(folder / "stats.json", ec) ? ReadJson(folder / "stats.json") : nlohmann::json::object();
+  info_ = {{"live", false},
+           {"dataset", stats.contains("dataset") ? fs::path(stats["dataset"].get<std::string>()).filename().string()
+                                                 : folder.filename().string()},
+           {"mode", stats.value("mode", "")},
+           {"frames", stats.value("frames", trajectory.size())},
+           {"pausable", false}};
+
+  MessageBuilder m("map");
+  std::vector<float> path;
+  for (const StampedPose& p : trajectory) Push(path, p.T_w_c.translation());
+  m.Add("path", path);
+  std::vector<std::uint32_t> kf_ids;
+  std::vector<float> kf_poses;
+  if (fs::is_regular_file(folder / "keyframes.txt", ec)) {
+    for (const StampedPose& k : ReadTumTrajectory(folder / "keyframes.txt")) {
+      kf_ids.push_back(static_cast<std::uint32_t>(kf_ids.size()));
+      const std::vector<float> T = Matrix(k.T_w_c);
+      kf_poses.insert(kf_poses.end(), T.begin(), T.end());
+    }
+  }
+  m.Add("keyframe_ids", kf_ids);
+  m.Add("keyframe_poses", kf_poses);
+  std::vector<float> points;
+  if (fs::is_regular_file(folder / "map_points.ply", ec)) {
+    for (const Eigen::Vector3d& p : ReadPlyPoints(folder / "map_points.ply")) Push(points, p);
+  }
+  m.Add("points", points);
+  m.Add("truth", AlignedTruth(stats, trajectory));
+  m.Add("cells", OccupiedCells(folder / "octomap.bt"));
+  nlohmann::json objects = nlohmann::json::array();
+  if (fs::is_regular_file(folder / "objects.json", ec)) {
+    const nlohmann::json j = ReadJson(folder / "objects.json");
+    for (const auto& o : j.value("objects", nlohmann::json::array())) {
+      objects.push_back({{"id", o.value("id", 0)},
+                         {"name", o.value("class", std::string("?"))},
+                         {"confidence", o.value("confidence", 0.0)},
+                         {"observations", o.value("observations", 0)},
+                         {"centroid", o.value("centroid", nlohmann::json::array({0, 0, 0}))},
+                         {"size", o.value("size", nlohmann::json::array({0, 0, 0}))}});
+    }
+  }
+  m.header()["objects"] = objects;
+  // The cloud is one piece (id 0) at the world's origin.
+  m.Add("piece_ids", std::vector<std::uint32_t>{0});
+  m.Add("piece_poses", Matrix(SE3()));
+  MessageBuilder without = m;
+  std::vector<float> xyz;
+  std::vector<std::uint8_t> rgb;
+  if (fs::is_regular_file(folder / "cloud.ply", ec)) {
+    std::vector<Rgb> colours;
+    const std::vector<Eigen::Vector3d> cloud = ReadPlyPoints(folder / "cloud.ply", &colours);
+    const std::size_t step = std::max<std::size_t>(1, (cloud.size() + kMaxCloudPoints - 1) / kMaxCloudPoints);
+    for (std::size_t i = 0; i < cloud.size(); i += step) {
+      Push(xyz, cloud[i]);
+      const Rgb c = colours.empty() ? Rgb{200, 200, 200} : colours[i];
+      rgb.insert(rgb.end(), c.begin(), c.end());
+    }
+  }
+  const auto n = static_cast<std::uint32_t>(xyz.size() / 3);
+  m.Add("new_piece_ids", std::vector<std::uint32_t>{0});
+  m.Add("new_piece_counts", std::vector<std::uint32_t>{n});
+  m.Add("new_piece_xyz", xyz);
+  m.Add("new_piece_rgb", rgb);
+  without.Add("new_piece_ids", std::vector<std::uint32_t>{});
+  without.Add("new_piece_counts", std::vector<std::uint32_t>{});
+  without.Add("new_piece_xyz", std::vector<float>{});
+  without.Add("new_piece_rgb", std::vector<std::uint8_t>{});
+  whole_ = m.Finish();
+  without_cloud_ = without.Finish();
+}
+
+}  // namespace sgslam::viewer
