@@ -73,6 +73,14 @@ TEST(Snapshots, AnObserverReadsTheRunningSystem) {
   for (const CloudPiece& c : map.cloud) cloud_points += c.points_c->size();
   EXPECT_GT(cloud_points, 1000u);
   EXPECT_FALSE(map.objects.empty()) << "the furniture seen so far";
+  // The OctoMap's occupied cells: a few centimetres each, near the cloud's points.
+  ASSERT_TRUE(map.cells);
+  ASSERT_GT(map.cells->size(), 100u);
+  for (const Eigen::Vector4f& c : *map.cells) {
+    ASSERT_GT(c.w(), 0.f);
+    ASSERT_LT(c.w(), 0.5f);
+  }
+  EXPECT_EQ(system.SnapshotMap().cells, map.cells) << "unchanged until the next keyframe: the same copy";
 }
 
 TEST(Snapshots, OffByDefault) {

@@ -36,10 +36,11 @@ class FakeSource : public Source {
     m.header()["version"] = version.load();
     return m.Finish();
   }
-  std::shared_ptr<const std::string> EncodeMap(std::int64_t pieces_after) override {
+  std::shared_ptr<const std::string> EncodeMap(const MapRequest& request) override {
     ++maps;
     MessageBuilder m("map");
-    m.header()["pieces_after"] = pieces_after;
+    m.header()["pieces_after"] = request.pieces_after;
+    m.header()["cells_have"] = request.cells_have;
     m.Add("points", std::vector<float>(map_floats, 1.f));
     return m.Finish();
   }
@@ -164,6 +165,10 @@ TEST(ViewerServer, APageGetsANewFrameOnlyWhenThereIsOne) {
   const nlohmann::json map = page.Receive();
   EXPECT_EQ(map["type"], "map");
   EXPECT_EQ(map["pieces_after"], -1);
+  page.Send(R"({"get":"map","pieces_after":12,"cells_have":3})");
+  const nlohmann::json map2 = page.Receive();
+  EXPECT_EQ(map2["pieces_after"], 12);
+  EXPECT_EQ(map2["cells_have"], 3);
   f.source.version = 1;
   server.NotifyFrame();
   const nlohmann::json frame = page.Receive();
@@ -181,6 +186,7 @@ TEST(ViewerServer, ABadMessageClosesOnlyItsOwnConnection) {
   Client good(server.port());
   for (const std::string& bad : {std::string("not json"), std::string(R"({"get":"everything"})"),
                                  std::string(R"({"get":"frame","have":-3})"), std::string(R"([1,2])"),
+                                 std::string(R"({"get":"map","pieces_after":1,"cells_have":"x"})"),
                                  std::string(2000, 'x')}) {
     Client page(server.port());
     page.Send(bad);

@@ -34,6 +34,8 @@ void LiveSource::AddFrame(const FrameReport& report) {
     ++version_;
     ++frames_;
     if (report.state != TrackState::kOk) ++lost_;
+    if (report.state == TrackState::kOk && last_state_ == TrackState::kLost) relocalised_at_ = report.index;
+    last_state_ = report.state;
     if (snapshot && snapshot->index == report.index && snapshot->T_w_c) {
       const Eigen::Vector3d p = snapshot->T_w_c->translation();
       path_.insert(path_.end(), {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())});
@@ -72,6 +74,13 @@ std::shared_ptr<const std::string> LiveSource::EncodeFrame() {
   h["index"] = f->index;
   h["t"] = ToSeconds(f->t);
   h["state"] = ToString(f->state);
+  {
+    std::lock_guard lock(mutex_);
+    // Shown for a second or two after the track came back.
+    if (relocalised_at_ && f->state == TrackState::kOk && f->index < *relocalised_at_ + kShowRelocalisedFrames) {
+      h["state"] = "relocalised at frame " + std::to_string(*relocalised_at_ + 1);
+    }
+  }
   h["keyframe"] = f->keyframe;
   h["frame_ms"] = f->frame_ms;
   h["paused"] = pause_.paused();
@@ -96,9 +105,20 @@ std::shared_ptr<const std::string> LiveSource::EncodeFrame() {
   return m.Finish();
 }
 
-std::shared_ptr<const std::string> LiveSource::EncodeMap(std::int64_t pieces_after) {
+std::shared_ptr<const std::string> LiveSource::EncodeMap(const MapRequest& request) {
   const MapSnapshot map = system_.SnapshotMap();
   MessageBuilder m("map");
+  if (map.cells && map.cells != cells_) {
+    cells_ = map.cells;
+    ++cells_version_;
+  }
+  m.header()["cells_version"] = cells_version_;
+  if (cells_ && request.cells_have != cells_version_) {
+    std::vector<float> cells;
+    cells.reserve(4 * cells_->size());
+    for (const Eigen::Vector4f& c : *cells_) cells.insert(cells.end(), {c.x(), c.y(), c.z(), c.w()});
+    m.Add("cells", cells);
+  }
   std::vector<std::uint32_t> kf_ids;
   std::vector<float> kf_poses;
   for (const KeyFramePose& k : map.keyframes) {
@@ -126,7 +146,7 @@ std::shared_ptr<const std::string> LiveSource::EncodeMap(std::int64_t pieces_aft
     piece_ids.push_back(static_cast<std::uint32_t>(piece.keyframe_id));
     const std::vector<float> T = Matrix(piece.T_w_c);
     piece_poses.insert(piece_poses.end(), T.begin(), T.end());
-    if (static_cast<std::int64_t>(piece.keyframe_id) <= pieces_after || !piece.points_c) continue;
+    if (static_cast<std::int64_t>(piece.keyframe_id) <= request.pieces_after || !piece.points_c) continue;
     const std::vector<ColoredPoint>& pts = *piece.points_c;
     const std::size_t step = (pts.size() + kMaxPiecePoints - 1) / kMaxPiecePoints;
     std::uint32_t n = 0;

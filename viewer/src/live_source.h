@@ -5,6 +5,7 @@
 
 #include <deque>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -28,7 +29,7 @@ class LiveSource : public Source {
 
   std::uint64_t FrameVersion() const override;
   std::shared_ptr<const std::string> EncodeFrame() override;
-  std::shared_ptr<const std::string> EncodeMap(std::int64_t pieces_after) override;
+  std::shared_ptr<const std::string> EncodeMap(const MapRequest& request) override;
   nlohmann::json Info() const override { return info_; }
   bool Control(const std::string& what) override;
 
@@ -41,6 +42,9 @@ class LiveSource : public Source {
   const nlohmann::json info_;
   Server* server_ = nullptr;
   PauseControl pause_;
+  // The viewer's thread only: the OctoMap cells last seen, and their version.
+  std::shared_ptr<const std::vector<Eigen::Vector4f>> cells_;
+  std::uint64_t cells_version_ = 0;
 
   mutable std::mutex mutex_;  // the fields below: written by the run's thread, read by the viewer's
   std::uint64_t version_ = 0;
@@ -48,6 +52,9 @@ class LiveSource : public Source {
   std::deque<double> arrivals_;        // s, steady clock: the last frames' arrival, for fps
   int keyframes_ = 0, map_points_ = 0, kept_ = 0, rejected_ = 0;
   std::size_t frames_ = 0, lost_ = 0;
+  TrackState last_state_ = TrackState::kNotInitialized;
+  std::optional<std::size_t> relocalised_at_;  // the last frame that found the track again
+  static constexpr std::size_t kShowRelocalisedFrames = 45;
 };
 
 }  // namespace sgslam::viewer

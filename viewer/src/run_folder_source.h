@@ -19,8 +19,8 @@ class RunFolderSource : public Source {
 
   std::uint64_t FrameVersion() const override { return 0; }  // no frames: the map only
   std::shared_ptr<const std::string> EncodeFrame() override { return nullptr; }
-  std::shared_ptr<const std::string> EncodeMap(std::int64_t pieces_after) override {
-    return pieces_after < 0 ? whole_ : without_cloud_;
+  std::shared_ptr<const std::string> EncodeMap(const MapRequest& request) override {
+    return request.pieces_after < 0 ? whole_ : without_cloud_;
   }
   nlohmann::json Info() const override { return info_; }
 

@@ -147,7 +147,8 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     });
   }
 
-  // {"get": "frame", "have": N} | {"get": "map", "pieces_after": ID} | {"get": "info"} | {"control": "pause"}
+  // {"get": "frame", "have": N} | {"get": "map", "pieces_after": ID[, "cells_have": V]} | {"get": "info"}
+  // | {"control": "pause"}
   bool Handle(const std::string& text) {
     const nlohmann::json m = nlohmann::json::parse(text, nullptr, false);
     if (!m.is_object()) return false;
@@ -174,7 +175,13 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
       if (source.FrameVersion() > m["have"].get<std::uint64_t>()) DeliverFrame(source.EncodeFrame());
     } else if (what == "map") {
       if (!m.contains("pieces_after") || !m["pieces_after"].is_number_integer()) return false;
-      if (auto map = source.EncodeMap(m["pieces_after"].get<std::int64_t>())) Send(map);
+      Source::MapRequest request;
+      request.pieces_after = m["pieces_after"].get<std::int64_t>();
+      if (m.contains("cells_have")) {
+        if (!m["cells_have"].is_number_unsigned()) return false;
+        request.cells_have = m["cells_have"].get<std::uint64_t>();
+      }
+      if (auto map = source.EncodeMap(request)) Send(map);
     } else {
       return false;
     }

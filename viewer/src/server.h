@@ -27,9 +27,14 @@ class Source {
   virtual std::uint64_t FrameVersion() const = 0;
   // The newest frame as a message (message.h), or null when there is none.
   virtual std::shared_ptr<const std::string> EncodeFrame() = 0;
-  // The map. Cloud pieces are sent only for keyframes with ids above pieces_after:
-  // the page keeps those it has and moves them with their keyframes' poses.
-  virtual std::shared_ptr<const std::string> EncodeMap(std::int64_t pieces_after) = 0;
+  // The map. Cloud pieces are sent only for keyframes with ids above pieces_after
+  // (the page keeps those it has and moves them with their keyframes' poses), and
+  // the OctoMap's cells only when their version is not cells_have.
+  struct MapRequest {
+    std::int64_t pieces_after = -1;
+    std::uint64_t cells_have = 0;
+  };
+  virtual std::shared_ptr<const std::string> EncodeMap(const MapRequest& request) = 0;
   // What the page's title and panel say of the run ("live", dataset, mode, ...).
   virtual nlohmann::json Info() const = 0;
   // A control from the page ("pause", "resume", "step"); false: not for this source.

@@ -46,13 +46,14 @@ try {
 
   await page.waitForFunction(() => {
     const v = window.sgslamViewer;
-    return v.frames >= 20 && v.maps >= 3 && v.mapPoints > 0 && v.cloudPoints > 0 && v.objects > 0;
+    return v.frames >= 20 && v.maps >= 3 && v.mapPoints > 0 && v.cloudPoints > 0 && v.objects > 0 && v.cells > 0;
   }, null, { timeout: 120000 });
   const v = await viewer();
   check(v.frame.pose && v.frame.pose.length === 16, `a pose arrived (frame ${v.frame.index}, ${v.frame.state})`);
   check(v.mapPoints > 0 && v.keyframes > 0, `${v.mapPoints} map points and ${v.keyframes} keyframes arrived`);
   check(v.cloudPoints > 0, `${v.cloudPoints} cloud points in ${v.pieces} pieces arrived`);
   check(v.objects > 0, `${v.objects} objects arrived`);
+  check(v.cells > 0, `${v.cells} OctoMap cells arrived`);
   check(v.errors.length === 0, `no error in the page's handling (${v.errors.join('; ')})`);
   const view = await litShare(page, '#view3d canvas'), image = await litShare(page, '#image');
   check(view > 0.005, `the 3-D view is drawn (${(100 * view).toFixed(2)} % of its pixels lit)`);

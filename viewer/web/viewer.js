@@ -6,10 +6,11 @@ import { parseMessage } from './protocol.js';
 
 const MAP_INTERVAL_MS = 500;  // the map is asked for again this long after one is drawn
 const LABEL_COLOURS = ['#3ddc84', '#ff4d4d', '#ffd23d'];  // kept, rejected, unjudged
+const STATE_NAMES = { ok: 'tracking', lost: 'lost', not_initialized: 'initialising' };
 
 // What the tests read (viewer/tests): counts of what arrived and was drawn.
 const state = { info: null, frames: 0, maps: 0, frame: null, mapPoints: 0, cloudPoints: 0, pieces: 0,
-                objects: 0, keyframes: 0, cells: 0, renders: 0, renderFps: 0, errors: [] };
+                objects: 0, keyframes: 0, cells: 0, cellsVersion: 0, renders: 0, renderFps: 0, errors: [] };
 window.sgslamViewer = state;
 
 // ---- the 3-D view ----------------------------------------------------------
@@ -155,7 +156,8 @@ function showFrame(header, buffers) {
     followCamera();
   }
   setText('p-frame', `${header.index + 1}${state.info && state.info.frames ? ' of ' + state.info.frames : ''}`);
-  setText('p-state', header.state + (header.keyframe ? ' (keyframe)' : '') + (header.paused ? ', paused' : ''));
+  const stateName = STATE_NAMES[header.state] || header.state;
+  setText('p-state', stateName + (header.keyframe ? ' (keyframe)' : '') + (header.paused ? ', paused' : ''));
   setText('p-ms', `${header.frame_ms.toFixed(1)} ms`);
   setText('p-fps', header.fps.toFixed(1));
   setText('p-rejected', `${(100 * header.rejected_share).toFixed(1)} %`);
@@ -243,6 +245,7 @@ function fitView(points) {
 
 function showMap(header, b) {
   state.maps++;
+  if (header.cells_version !== undefined) state.cellsVersion = header.cells_version;
   if (state.maps === 1 && state.info && !state.info.live) {
     world.updateMatrixWorld();
     fitView(b.points.length > 0 ? b.points : b.path);
@@ -312,6 +315,9 @@ let socket = null;
 function send(message) {
   if (socket && socket.readyState === WebSocket.OPEN) socket.send(JSON.stringify(message));
 }
+function requestMap() {
+  send({ get: 'map', pieces_after: maxPieceId(), cells_have: state.cellsVersion });
+}
 function maxPieceId() {
   let max = -1;
   for (const id of pieces.keys()) max = Math.max(max, id);
@@ -335,7 +341,7 @@ function connect() {
     status.textContent = '';
     send({ get: 'info' });
     send({ get: 'frame', have: 0 });
-    send({ get: 'map', pieces_after: maxPieceId() });
+    requestMap();
   };
   socket.onmessage = async (event) => {
     try {
@@ -356,7 +362,7 @@ function connect() {
       } else if (header.type === 'map') {
         showMap(header, buffers);
         // A finished run's map does not change: asked for once.
-        if (state.info && state.info.live) setTimeout(() => send({ get: 'map', pieces_after: maxPieceId() }), MAP_INTERVAL_MS);
+        if (state.info && state.info.live) setTimeout(requestMap, MAP_INTERVAL_MS);
       }
     } catch (e) {
       state.errors.push(String(e));

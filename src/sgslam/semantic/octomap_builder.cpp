@@ -121,6 +121,16 @@ std::size_t OctoMapBuilder::OccupiedLeaves() const {
   return n;
 }
 
+std::vector<Eigen::Vector4f> OctoMapBuilder::OccupiedCells() const {
+  std::vector<Eigen::Vector4f> out;
+  for (auto it = tree_->begin_leafs(), end = tree_->end_leafs(); it != end; ++it) {
+    if (!tree_->isNodeOccupied(*it)) continue;
+    const octomap::point3d c = it.getCoordinate();
+    out.emplace_back(c.x(), c.y(), c.z(), static_cast<float>(it.getSize()));
+  }
+  return out;
+}
+
 void OctoMapBuilder::Write(const std::filesystem::path& path) {
   Finalize();
   std::ostringstream bytes(std::ios::binary);

@@ -43,6 +43,8 @@ class OctoMapBuilder {
   bool IsOccupied(const Eigen::Vector3d& p_w) const;
   double resolution() const;
   std::size_t OccupiedLeaves() const;
+  // The occupied leaves: centre (m, world) and side (m) each.
+  std::vector<Eigen::Vector4f> OccupiedCells() const;
   // Binary .bt (occupancy only, as octovis and octomap_server read it), atomically.
   // Throws InputError naming the file.
   void Write(const std::filesystem::path& path);

@@ -585,9 +585,11 @@ void SemanticMapper::Publish(const KeyFrameCloud& cloud) {
     for (const KeyFrameCloud& k : clouds_) T_w_c.emplace(k.keyframe.get(), k.keyframe->PlacedT_c_w().Inverse());
   }
   std::vector<ObjectEstimate> objects = objects_.Estimate([&](const KeyFrame& kf) { return T_w_c.at(&kf); });
+  auto cells = std::make_shared<const std::vector<Eigen::Vector4f>>(octomap_.OccupiedCells());
   std::lock_guard lock(published_mutex_);
   published_.clouds.emplace_back(cloud.keyframe, std::move(points));
   published_.objects = std::move(objects);
+  published_.cells = std::move(cells);
 }
 
 SemanticMapper::Published SemanticMapper::published() const {

@@ -114,12 +114,15 @@ class SemanticMapper {
   void Restore(SemanticState state);
 
   // For observers (system/snapshot.h): once enabled (before the first Submit), each
-  // keyframe's cloud and the objects estimated after it are published; Published()
+  // keyframe's cloud, the objects estimated after it and the OctoMap's occupied
+  // cells are published; Published()
   // copies them (shared pointers) from any thread.
   void EnablePublishing() { publishing_ = true; }
   struct Published {
     std::vector<std::pair<std::shared_ptr<KeyFrame>, std::shared_ptr<const std::vector<ColoredPoint>>>> clouds;
     std::vector<ObjectEstimate> objects;  // world frame
+    // The OctoMap's occupied cells after the last keyframe: centre (m, world), side.
+    std::shared_ptr<const std::vector<Eigen::Vector4f>> cells;
   };
   Published published() const;
 

@@ -463,6 +463,7 @@ MapSnapshot SlamSystem::SnapshotMap() const {
   SemanticMapper::Published semantic;
   if (semantic_ && snapshots_) semantic = semantic_->published();  // before the map lock: never both held
   out.objects = std::move(semantic.objects);
+  out.cells = std::move(semantic.cells);
   std::shared_lock lock(map_.mutex());
   for (const auto& [id, kf] : map_.keyframes()) out.keyframes.push_back({id, kf->t, kf->T_w_c()});
   out.points.reserve(map_.map_points().size());

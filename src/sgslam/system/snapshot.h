@@ -56,6 +56,9 @@ struct MapSnapshot {
   std::vector<Eigen::Vector3d> points;  // m, world: the sparse map points
   std::vector<CloudPiece> cloud;        // the semantic thread's keyframes so far (empty without it)
   std::vector<ObjectEstimate> objects;  // as of the semantic thread's last keyframe, world frame
+  // The OctoMap's occupied cells as of that keyframe: centre (m, world) and side (m);
+  // null without the semantic thread. Shared: the same pointer until it changes.
+  std::shared_ptr<const std::vector<Eigen::Vector4f>> cells;
 };
 
 }  // namespace sgslam
