@@ -7,7 +7,8 @@
 #   them too), then one short end-to-end run: a synthetic `walkers` sequence through
 #   `sgslam run` in parallel mode with the real detector and --save-map.
 # --tsan: ThreadSanitizer build of the program and the threaded end-to-end test in
-#   build-tsan/; that test's parallel run and the same end-to-end run.
+#   build-tsan/; that test's parallel run and the same end-to-end run, the viewer's
+#   server tests and a `run --viewer` watched by a headless chromium page.
 # A report from either sanitizer fails the job (exit status 1).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -60,8 +61,15 @@ if [ $asan = 1 ]; then
 fi
 
 if [ $tsan = 1 ]; then
-  scripts/setup.sh --tsan --target sgslam --target test_system_slam_synthetic
+  scripts/setup.sh --tsan --target sgslam --target test_system_slam_synthetic --target test_viewer_server
   export TSAN_OPTIONS="suppressions=$PWD/tests/sanitizers/tsan.supp halt_on_error=1 second_deadlock_stack=1"
   build-tsan/tests/test_system_slam_synthetic --gtest_filter='*Parallel*'
   end_to_end build-tsan tsan
+  # The viewer's server thread against the run's threads: its own tests, and a run
+  # watched by a real page (skipped, 77, without chromium).
+  build-tsan/tests/test_viewer_server
+  status=0
+  node viewer/tests/browser_test.mjs --sgslam build-tsan/sgslam --work "$work/tsan-viewer" --parallel 1 || status=$?
+  [ $status = 0 ] || [ $status = 77 ] || exit $status
+  echo "sanitize: tsan viewer run clean"
 fi

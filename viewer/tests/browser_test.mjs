@@ -2,7 +2,7 @@
 // `sgslam run --viewer` of a synthetic sequence is opened, and the test checks
 // that frames, poses, map points, the cloud and objects arrive and are drawn, that
 // pause and step hold the run, and saves a screenshot.
-//   node browser_test.mjs --sgslam BIN --work DIR [--chromium PATH] [--screenshot FILE]
+//   node browser_test.mjs --sgslam BIN --work DIR [--parallel 1] [--chromium PATH] [--screenshot FILE]
 // Exit 77 (CTest: skipped) when chromium or playwright-core is missing.
 import { spawnSync } from 'node:child_process';
 import { mkdirSync, rmSync } from 'node:fs';
@@ -20,9 +20,10 @@ const synth = spawnSync(args.sgslam, ['synth', '--out', data, '--preset', 'objec
                         { encoding: 'utf8' });
 if (synth.status !== 0) fail(`sgslam synth failed: ${synth.stderr}`);
 
-// --sequential: the run waits while the page has it paused.
-const run = startServed(args.sgslam, ['run', '--dataset', data, '--out', path.join(work, 'out'), '--viewer=0',
-                                      '--sequential']);
+// Sequential unless --parallel 1 (the sanitizer job's, for more threads at once).
+const runArgs = ['run', '--dataset', data, '--out', path.join(work, 'out'), '--viewer=0'];
+if (args.parallel !== '1') runArgs.push('--sequential');
+const run = startServed(args.sgslam, runArgs);
 try {
   const url = await run.url;
   console.log(`viewer at ${url}`);
@@ -63,6 +64,9 @@ try {
     await page.screenshot({ path: args.screenshot });
     console.log(`screenshot: ${args.screenshot}`);
   }
+} catch (e) {
+  console.error(`sgslam run's log:\n${run.log().slice(-4000)}`);
+  throw e;
 } finally {
   await browser.close();
   run.child.kill('SIGINT');
