@@ -30,6 +30,7 @@ try {
   const page = await browser.newPage({ viewport: { width: 1280, height: 720 } });
   const pageErrors = collectErrors(page);
   await page.goto(url);
+  await page.check('input[data-layer=cells]');  // the OctoMap's cells are sent only while shown
   const viewer = () => page.evaluate(() => window.sgslamViewer);
 
   // Pause at once: then the map is still small and the run waits for the page.
@@ -56,7 +57,8 @@ try {
   check(v.objects > 0, `${v.objects} objects arrived`);
   check(v.cells > 0, `${v.cells} OctoMap cells arrived`);
   check(v.errors.length === 0, `no error in the page's handling (${v.errors.join('; ')})`);
-  const view = await litShare(page, '#view3d canvas'), image = await litShare(page, '#image');
+  const view = await page.evaluate(() => window.sgslamViewer.litShare());
+  const image = await litShare(page, '#image');
   check(view > 0.005, `the 3-D view is drawn (${(100 * view).toFixed(2)} % of its pixels lit)`);
   check(image > 0.5, `the frame is drawn (${(100 * image).toFixed(1)} % of its pixels lit)`);
   check(pageErrors.length === 0, `no error in the page's console (${pageErrors.join('; ')})`);

@@ -6,7 +6,7 @@ import { spawnSync } from 'node:child_process';
 import { mkdirSync, rmSync } from 'node:fs';
 import path from 'node:path';
 
-import { check, collectErrors, fail, launchChromium, litShare, parseArgs, startServed } from './common.mjs';
+import { check, collectErrors, fail, launchChromium, parseArgs, startServed } from './common.mjs';
 
 const args = parseArgs(process.argv.slice(2));
 const browser = await launchChromium(args.chromium);
@@ -29,19 +29,15 @@ try {
   const pageErrors = collectErrors(page);
   const start = Date.now();
   await page.goto(url);
-  // Drawn: the map arrived and the page has rendered after it.
-  await page.waitForFunction(() => {
-    const v = window.sgslamViewer;
-    if (!v || v.maps < 1) return false;
-    v.rendersAtMap ??= v.renders;
-    return v.renders > v.rendersAtMap + 1;
-  }, null, { timeout: 60000, polling: 'raf' });
+  // Drawn: the page has rendered after the map arrived.
+  await page.waitForFunction(() => window.sgslamViewer && window.sgslamViewer.drawnMaps >= 1, null,
+                             { timeout: 60000, polling: 'raf' });
   const seconds = (Date.now() - start) / 1000;
   const v = await page.evaluate(() => window.sgslamViewer);
   console.log(`opened in ${seconds.toFixed(2)} s: ${v.mapPoints} map points, ${v.keyframes} keyframes, ` +
               `${v.cloudPoints} cloud points, ${v.cells} OctoMap cells, ${v.objects} objects`);
   check(!v.info.live && v.mapPoints > 0 && v.keyframes > 0 && v.cloudPoints > 0, 'the finished run\'s map arrived');
-  const view = await litShare(page, '#view3d canvas');
+  const view = await page.evaluate(() => window.sgslamViewer.litShare());
   check(view > 0.005, `the 3-D view is drawn (${(100 * view).toFixed(2)} % of its pixels lit)`);
   check(pageErrors.length === 0, `no error in the page's console (${pageErrors.join('; ')})`);
   if (args.screenshot) await page.screenshot({ path: args.screenshot });

@@ -5,17 +5,37 @@ import { OrbitControls } from './three/OrbitControls.js';
 import { parseMessage } from './protocol.js';
 
 const MAP_INTERVAL_MS = 500;  // the map is asked for again this long after one is drawn
+// Frames are asked for at most this often: 15 a second follow the camera smoothly,
+// and a page that shares the CPU with the run (a laptop, a robot) takes less of it.
+const FRAME_INTERVAL_MS = 66;
+let lastFrameAsked = 0;
 const LABEL_COLOURS = ['#3ddc84', '#ff4d4d', '#ffd23d'];  // kept, rejected, unjudged
 const STATE_NAMES = { ok: 'tracking', lost: 'lost', not_initialized: 'initialising' };
 
 // What the tests read (viewer/tests): counts of what arrived and was drawn.
 const state = { info: null, frames: 0, maps: 0, frame: null, mapPoints: 0, cloudPoints: 0, pieces: 0,
-                objects: 0, keyframes: 0, cells: 0, cellsVersion: 0, renders: 0, renderFps: 0, errors: [] };
+                objects: 0, keyframes: 0, cells: 0, cellsVersion: 0, cellsDrawn: 0, renders: 0, renderFps: 0, errors: [],
+                drawnMaps: 0 };
 window.sgslamViewer = state;
+// For the tests: the share of the 3-D view's pixels unlike the background, read in
+// the same task as a drawing (the drawing buffer is not kept after it is shown).
+state.litShare = () => {
+  renderer.render(scene, camera);
+  const gl = renderer.getContext(), w = gl.drawingBufferWidth, h = gl.drawingBufferHeight;
+  const d = new Uint8Array(4 * w * h);
+  gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE, d);
+  let n = 0;
+  for (let i = 0; i < d.length; i += 4) {
+    if (Math.abs(d[i] - 0x15) + Math.abs(d[i + 1] - 0x18) + Math.abs(d[i + 2] - 0x1c) > 30) n++;
+  }
+  return n / (w * h);
+};
 
 // ---- the 3-D view ----------------------------------------------------------
 const container = document.getElementById('view3d');
-const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+// No antialiasing: on a machine without a GPU (software WebGL) it costs several
+// times the drawing, and the page shares the CPU with the run it shows.
+const renderer = new THREE.WebGLRenderer({ antialias: false });
 renderer.setPixelRatio(window.devicePixelRatio);
 container.appendChild(renderer.domElement);
 const scene = new THREE.Scene();
@@ -23,6 +43,7 @@ scene.background = new THREE.Color(0x15181c);
 const camera = new THREE.PerspectiveCamera(60, 1, 0.01, 500);
 camera.position.set(0, 2, 4);
 const controls = new OrbitControls(camera, renderer.domElement);
+controls.enableDamping = true;  // the view glides to a stop: drawn every animation frame meanwhile
 // The SLAM world is the first camera's frame (x right, y down, z forward): turned
 // half a turn about x, y is up and the camera looks along -z as in three.js.
 const world = new THREE.Group();
@@ -49,6 +70,25 @@ const mapPoints = new THREE.Points(new THREE.BufferGeometry(),
 layers.points.add(mapPoints);
 const cloudMaterial = new THREE.PointsMaterial({ size: 2, sizeAttenuation: false, vertexColors: true });
 const pieces = new Map();  // keyframe id -> THREE.Points, placed by its keyframe's pose
+// While the view is being turned the cloud is drawn in part, every COARSE_STRIDE-th
+// point (each piece's points are stored in that order: a prefix is an even
+// subsample): without a GPU, drawing 100 000 points takes 40 ms, a quarter of them 15.
+const COARSE_STRIDE = 4;
+let coarse = false;
+function interleaved(array, itemSize, count) {
+  const out = new array.constructor(array.length);
+  let k = 0;
+  for (let start = 0; start < COARSE_STRIDE; start++) {
+    for (let i = start; i < count; i += COARSE_STRIDE, k++) {
+      for (let c = 0; c < itemSize; c++) out[itemSize * k + c] = array[itemSize * i + c];
+    }
+  }
+  return out;
+}
+function setDrawRange(p) {
+  const n = p.geometry.attributes.position.count;
+  p.geometry.setDrawRange(0, coarse ? Math.ceil(n / COARSE_STRIDE) : n);
+}
 
 // A camera drawn as a pyramid: its centre and the image's corners at depth d.
 function frustumSegments(d) {
@@ -74,13 +114,38 @@ function resize() {
   camera.aspect = w / Math.max(h, 1);
   camera.updateProjectionMatrix();
 }
-window.addEventListener('resize', resize);
+window.addEventListener('resize', () => { resize(); requestRender(); });
 resize();
 
-let renderCount = 0, renderSince = performance.now();
+// Drawn on demand: when something arrived or the view moved. What arrives is drawn
+// at most every RENDER_INTERVAL_MS (without a GPU a drawing costs the machine tens
+// of milliseconds, and the run shares it); a view the mouse turns, every frame.
+let renderCount = 0, renderSince = performance.now(), dirty = true, lastRender = 0;
+const RENDER_INTERVAL_MS = 200;
+function requestRender() { dirty = true; }
+controls.addEventListener('change', requestRender);
+let interacting = false, settling = false;  // from the mouse's 'start' until the glide stops
+controls.addEventListener('start', () => {
+  interacting = coarse = true;
+  settling = false;
+  for (const p of pieces.values()) setDrawRange(p);
+});
+controls.addEventListener('end', () => { settling = true; });
 function animate() {
-  controls.update();
+  requestAnimationFrame(animate);
+  const moved = controls.update();
+  if (moved) dirty = true;
+  if (!moved && settling) {
+    settling = interacting = coarse = false;
+    for (const p of pieces.values()) setDrawRange(p);
+    dirty = true;
+  }
+  if (!dirty) return;
+  if (!interacting && performance.now() - lastRender < RENDER_INTERVAL_MS) return;
+  lastRender = performance.now();
+  dirty = false;
   renderer.render(scene, camera);
+  state.drawnMaps = state.maps;  // the maps received by the time of this drawing
   state.renders++;
   renderCount++;
   const now = performance.now();
@@ -89,7 +154,6 @@ function animate() {
     renderCount = 0;
     renderSince = now;
   }
-  requestAnimationFrame(animate);
 }
 requestAnimationFrame(animate);
 
@@ -107,10 +171,14 @@ document.getElementById('b-top').addEventListener('click', () => {
   const distance = Math.max(camera.position.distanceTo(controls.target), 3);
   camera.position.set(controls.target.x, controls.target.y + distance, controls.target.z + 0.001);
   camera.lookAt(controls.target);
+  requestRender();
 });
 for (const box of document.querySelectorAll('#layers input')) {
   layers[box.dataset.layer].visible = box.checked;
-  box.addEventListener('change', () => { layers[box.dataset.layer].visible = box.checked; });
+  box.addEventListener('change', () => {
+    layers[box.dataset.layer].visible = box.checked;
+    requestRender();
+  });
 }
 
 // ---- the current frame ---------------------------------------------------------
@@ -149,6 +217,7 @@ function setText(id, text) { document.getElementById(id).textContent = text; }
 
 function showFrame(header, buffers) {
   state.frames++;
+  requestRender();
   state.frame = header;
   if (header.pose) {
     currentCamera.matrix.fromArray(header.pose);
@@ -188,7 +257,11 @@ function label(text) {
   sprite.rotation.x = Math.PI;  // the world group's turn would show it upside down
   return sprite;
 }
+let objectsShown = '';
 function showObjects(objects) {
+  const text = JSON.stringify(objects);
+  if (text === objectsShown) return;  // unchanged: no new labels to draw and upload
+  objectsShown = text;
   for (const child of [...objectBoxes.children]) {
     objectBoxes.remove(child);
     child.traverse((o) => { o.geometry?.dispose(); o.material?.map?.dispose(); o.material?.dispose(); });
@@ -245,13 +318,17 @@ function fitView(points) {
 
 function showMap(header, b) {
   state.maps++;
+  requestRender();
   if (header.cells_version !== undefined) state.cellsVersion = header.cells_version;
   if (state.maps === 1 && state.info && !state.info.live) {
     world.updateMatrixWorld();
     fitView(b.points.length > 0 ? b.points : b.path);
   }
   if (b.truth) setPositions(truthLine.geometry, b.truth);
-  if (b.cells) showCells(b.cells);
+  if (b.cells) {
+    showCells(b.cells);
+    state.cellsDrawn = state.cellsVersion;
+  }
   setPositions(mapPoints.geometry, b.points);
   state.mapPoints = b.points.length / 3;
   setPositions(pathLine.geometry, b.path);
@@ -272,10 +349,13 @@ function showMap(header, b) {
   for (let i = 0; i < b.new_piece_ids.length; i++) {
     const count = b.new_piece_counts[i];
     const g = new THREE.BufferGeometry();
-    g.setAttribute('position', new THREE.BufferAttribute(b.new_piece_xyz.slice(3 * offset, 3 * (offset + count)), 3));
-    g.setAttribute('color', new THREE.BufferAttribute(b.new_piece_rgb.slice(3 * offset, 3 * (offset + count)), 3, true));
+    const xyz = b.new_piece_xyz.subarray(3 * offset, 3 * (offset + count));
+    const rgb = b.new_piece_rgb.subarray(3 * offset, 3 * (offset + count));
+    g.setAttribute('position', new THREE.BufferAttribute(interleaved(xyz, 3, count), 3));
+    g.setAttribute('color', new THREE.BufferAttribute(interleaved(rgb, 3, count), 3, true));
     g.computeBoundingSphere();
     const p = new THREE.Points(g, cloudMaterial);
+    setDrawRange(p);
     p.matrixAutoUpdate = false;
     pieces.set(b.new_piece_ids[i], p);
     layers.cloud.add(p);
@@ -316,7 +396,9 @@ function send(message) {
   if (socket && socket.readyState === WebSocket.OPEN) socket.send(JSON.stringify(message));
 }
 function requestMap() {
-  send({ get: 'map', pieces_after: maxPieceId(), cells_have: state.cellsVersion });
+  // The OctoMap's cells (up to a megabyte, and costly to build) only while shown.
+  const cellsHave = layers.cells.visible ? state.cellsDrawn : state.cellsVersion;
+  send({ get: 'map', pieces_after: maxPieceId(), cells_have: cellsHave });
 }
 function maxPieceId() {
   let max = -1;
@@ -358,7 +440,11 @@ function connect() {
         }
       } else if (header.type === 'frame') {
         await showFrame(header, buffers);
-        send({ get: 'frame', have: header.version });
+        const wait = Math.max(0, lastFrameAsked + FRAME_INTERVAL_MS - performance.now());
+        setTimeout(() => {
+          lastFrameAsked = performance.now();
+          send({ get: 'frame', have: header.version });
+        }, wait);
       } else if (header.type === 'map') {
         showMap(header, buffers);
         // A finished run's map does not change: asked for once.
