@@ -24,10 +24,11 @@ if (synth.status !== 0) fail(`sgslam synth failed: ${synth.stderr}`);
 const runArgs = ['run', '--dataset', data, '--out', path.join(work, 'out'), '--viewer=0'];
 if (args.parallel !== '1') runArgs.push('--sequential');
 const run = startServed(args.sgslam, runArgs);
+let page = null;
 try {
   const url = await run.url;
   console.log(`viewer at ${url}`);
-  const page = await browser.newPage({ viewport: { width: 1280, height: 720 } });
+  page = await browser.newPage({ viewport: { width: 1280, height: 720 } });
   const pageErrors = collectErrors(page);
   await page.goto(url);
   await page.check('input[data-layer=cells]');  // the OctoMap's cells are sent only while shown
@@ -68,6 +69,10 @@ try {
   }
 } catch (e) {
   console.error(`sgslam run's log:\n${run.log().slice(-4000)}`);
+  if (page) {
+    const v = await page.evaluate(() => { const { frame, info, ...rest } = window.sgslamViewer; return rest; });
+    console.error(`the page's state: ${JSON.stringify(v)}`);
+  }
   throw e;
 } finally {
   await browser.close();

@@ -61,7 +61,7 @@ const pathLine = new THREE.Line(new THREE.BufferGeometry(), new THREE.LineBasicM
 layers.path.add(pathLine);
 const truthLine = new THREE.Line(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: 0xff9f43 }));
 layers.truth.add(truthLine);
-let cells = null;  // the OctoMap's occupied cells: one instanced cube each, coloured by height
+let cells = null;  // the OctoMap's occupied cells, coloured by height
 const keyframeLines = new THREE.LineSegments(new THREE.BufferGeometry(),
                                              new THREE.LineBasicMaterial({ color: 0x8e7dff }));
 layers.keyframes.add(keyframeLines);
@@ -289,18 +289,22 @@ function showCells(c) {
   const n = c.length / 4;
   state.cells = n;
   if (n === 0) return;
+  // Each cell a square of its side facing the view (points, not cubes: 50 000
+  // cubes are 600 000 triangles, too many to draw without a GPU).
   let low = Infinity, high = -Infinity;
   for (let i = 0; i < n; i++) { low = Math.min(low, c[4 * i + 1]); high = Math.max(high, c[4 * i + 1]); }
-  cells = new THREE.InstancedMesh(new THREE.BoxGeometry(1, 1, 1), new THREE.MeshBasicMaterial(), n);
-  const m = new THREE.Matrix4(), colour = new THREE.Color();
+  const xyz = new Float32Array(3 * n), rgb = new Float32Array(3 * n), colour = new THREE.Color();
   for (let i = 0; i < n; i++) {
-    const size = c[4 * i + 3];
-    m.makeScale(size, size, size).setPosition(c[4 * i], c[4 * i + 1], c[4 * i + 2]);
-    cells.setMatrixAt(i, m);
+    xyz[3 * i] = c[4 * i]; xyz[3 * i + 1] = c[4 * i + 1]; xyz[3 * i + 2] = c[4 * i + 2];
     // y points down in the world: the highest cells (least y) are red, the lowest blue.
     colour.setHSL((0.66 * (c[4 * i + 1] - low)) / Math.max(high - low, 1e-6), 0.8, 0.5);
-    cells.setColorAt(i, colour);
+    rgb[3 * i] = colour.r; rgb[3 * i + 1] = colour.g; rgb[3 * i + 2] = colour.b;
   }
+  const g = new THREE.BufferGeometry();
+  g.setAttribute('position', new THREE.BufferAttribute(xyz, 3));
+  g.setAttribute('color', new THREE.BufferAttribute(rgb, 3));
+  g.computeBoundingSphere();
+  cells = new THREE.Points(g, new THREE.PointsMaterial({ size: c[3], sizeAttenuation: true, vertexColors: true }));
   layers.cells.add(cells);
 }
 
