@@ -20,6 +20,7 @@
 #include "sgslam/detection/detector.h"
 #include "sgslam/detection/people_scale.h"
 #include "sgslam/eval/ate.h"
+#include "sgslam/eval/evaluate.h"
 #include "sgslam/io/frame_stream.h"
 #include "sgslam/io/ply.h"
 #include "sgslam/io/text_file.h"
@@ -412,12 +413,21 @@ RunSummary RunSequence(const RunOptions& o) {
   std::unique_ptr<RunViewer> viewer;  // before the system goes, it stops
   if (o.viewer_port >= 0) {
     const std::size_t frames = o.max_frames > 0 ? std::min(o.max_frames, dataset.size()) : dataset.size();
+    Trajectory truth;  // drawn aligned to the keyframes
+    if (const auto gt = dataset.groundtruth_path()) {
+      try {
+        truth = eval::UniqueStamps(ReadTumTrajectory(*gt));
+      } catch (const Error& e) {
+        spdlog::warn("viewer: no ground truth shown: {}", e.what());
+      }
+    }
     viewer = std::make_unique<RunViewer>(system, o.viewer_address, o.viewer_port,
                                          nlohmann::json{{"live", true},
                                                         {"dataset", dataset.dir().filename().string()},
                                                         {"mode", config.dynamic.mode},
                                                         {"frames", frames},
-                                                        {"pausable", true}});
+                                                        {"pausable", true}},
+                                         std::move(truth));
   }
   TruthScorer truth(o.dataset);
   const Stopwatch wall;

@@ -16,19 +16,21 @@ namespace sgslam::app {
 #ifdef SGSLAM_WITH_VIEWER
 
 struct RunViewer::Impl {
-  Impl(SlamSystem& system, nlohmann::json info) : source(system, std::move(info)) {}
+  Impl(SlamSystem& system, nlohmann::json info, Trajectory truth)
+      : source(system, std::move(info), std::move(truth)) {}
   viewer::LiveSource source;
   std::unique_ptr<viewer::Server> server;
 };
 
-RunViewer::RunViewer(SlamSystem& system, const std::string& address, int port, nlohmann::json info) {
+RunViewer::RunViewer(SlamSystem& system, const std::string& address, int port, nlohmann::json info,
+                     Trajectory truth) {
   const auto data = DataDir();
   if (!data) throw Error("viewer: the page's files were not found (no share/sgslam beside the executable)");
   if (address != "127.0.0.1" && address != "::1" && address != "localhost") {
     spdlog::warn("viewer: serving on {}: anyone who can reach it can watch and pause this run", address);
   }
   system.EnableSnapshots();
-  impl_ = std::make_unique<Impl>(system, std::move(info));
+  impl_ = std::make_unique<Impl>(system, std::move(info), std::move(truth));
   viewer::ServerOptions options;
   options.address = address == "localhost" ? "127.0.0.1" : address;
   options.port = static_cast<std::uint16_t>(port);
@@ -56,7 +58,7 @@ void RunViewer::WaitWhilePaused() {
 
 struct RunViewer::Impl {};
 
-RunViewer::RunViewer(SlamSystem&, const std::string&, int, nlohmann::json) {
+RunViewer::RunViewer(SlamSystem&, const std::string&, int, nlohmann::json, Trajectory) {
   throw InputError("--viewer: this sgslam was built without the viewer (CMake option SGSLAM_VIEWER=OFF)");
 }
 RunViewer::~RunViewer() = default;

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "sgslam/io/trajectory.h"
 #include "sgslam/system/slam_system.h"
 
 namespace sgslam::app {
@@ -15,7 +16,8 @@ class RunViewer {
  public:
   // Starts serving (snapshots enabled on the system, which must outlive this) and
   // prints the address. Throws sgslam::Error when it cannot.
-  RunViewer(SlamSystem& system, const std::string& address, int port, nlohmann::json info);
+  // truth: the dataset's ground truth (sorted, unique stamps), or empty.
+  RunViewer(SlamSystem& system, const std::string& address, int port, nlohmann::json info, Trajectory truth);
   ~RunViewer();
   RunViewer(const RunViewer&) = delete;
   RunViewer& operator=(const RunViewer&) = delete;

@@ -1,10 +1,12 @@
 #include "live_source.h"
 
+#include <algorithm>
 #include <chrono>
 
 #include <opencv2/imgcodecs.hpp>
 
 #include "message.h"
+#include "truth.h"
 #include "sgslam/common/time.h"
 
 namespace sgslam::viewer {
@@ -128,6 +130,12 @@ std::shared_ptr<const std::string> LiveSource::EncodeMap(const MapRequest& reque
   }
   m.Add("keyframe_ids", kf_ids);
   m.Add("keyframe_poses", kf_poses);
+  if (!truth_.empty()) {
+    Trajectory keyframes;
+    for (const KeyFramePose& k : map.keyframes) keyframes.push_back({k.t, k.T_w_c});
+    std::sort(keyframes.begin(), keyframes.end(), [](const auto& a, const auto& b) { return a.t < b.t; });
+    m.Add("truth", AlignedTruth(truth_, keyframes));
+  }
   std::vector<float> points;
   points.reserve(3 * map.points.size());
   for (const Eigen::Vector3d& p : map.points) {

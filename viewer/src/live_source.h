@@ -11,14 +11,18 @@
 
 #include "pause.h"
 #include "server.h"
+#include "sgslam/io/trajectory.h"
 #include "sgslam/system/slam_system.h"
 
 namespace sgslam::viewer {
 
 class LiveSource : public Source {
  public:
-  // info: what the page says of the run (dataset, mode, frames, ...).
-  LiveSource(const SlamSystem& system, nlohmann::json info) : system_(system), info_(std::move(info)) {}
+  // info: what the page says of the run (dataset, mode, frames, ...); truth: the
+  // dataset's ground truth (sorted, unique stamps) or empty, drawn aligned to the
+  // keyframes.
+  LiveSource(const SlamSystem& system, nlohmann::json info, Trajectory truth = {})
+      : system_(system), info_(std::move(info)), truth_(std::move(truth)) {}
 
   // The run's thread, after each frame: remembers the frame's place and counts, and
   // tells the server (set_server) that a new frame is there. Cheap, never blocks.
@@ -40,6 +44,7 @@ class LiveSource : public Source {
  private:
   const SlamSystem& system_;
   const nlohmann::json info_;
+  const Trajectory truth_;
   Server* server_ = nullptr;
   PauseControl pause_;
   // The viewer's thread only: the OctoMap cells last seen, and their version.

@@ -6,8 +6,9 @@
 #include <spdlog/spdlog.h>
 
 #include "message.h"
+#include "truth.h"
 #include "sgslam/common/error.h"
-#include "sgslam/eval/ate.h"
+#include "sgslam/eval/evaluate.h"
 #include "sgslam/io/ply.h"
 #include "sgslam/io/trajectory.h"
 
@@ -37,22 +38,18 @@ nlohmann::json ReadJson(const fs::path& p) {
   return j;
 }
 
-// The dataset's ground truth, moved into the run's world by the ATE alignment.
-std::vector<float> AlignedTruth(const nlohmann::json& stats, const Trajectory& trajectory) {
-  std::vector<float> out;
-  if (!stats.contains("dataset") || !stats["dataset"].is_string()) return out;
+// The dataset's ground truth (stats.json names its folder), aligned to the run.
+std::vector<float> TruthOf(const nlohmann::json& stats, const Trajectory& trajectory) {
+  if (!stats.contains("dataset") || !stats["dataset"].is_string()) return {};
   const fs::path gt_path = fs::path(stats["dataset"].get<std::string>()) / "groundtruth.txt";
   std::error_code ec;
-  if (!fs::is_regular_file(gt_path, ec)) return out;
+  if (!fs::is_regular_file(gt_path, ec)) return {};
   try {
-    const Trajectory gt = ReadTumTrajectory(gt_path);
-    const SE3 T_est_gt = eval::ComputeAte(gt, trajectory, FromSeconds(0.02)).T_gt_est.Inverse();
-    out.reserve(3 * gt.size());
-    for (const StampedPose& p : gt) Push(out, T_est_gt * p.T_w_c.translation());
+    return AlignedTruth(eval::UniqueStamps(ReadTumTrajectory(gt_path)), trajectory);
   } catch (const Error& e) {
     spdlog::warn("view: no ground truth shown: {}", e.what());
+    return {};
   }
-  return out;
 }
 
 // The OctoMap's occupied leaves: centre and side, 4 floats each.
@@ -111,7 +108,7 @@ RunFolderSource::RunFolderSource(const fs::path& folder) {
     for (const Eigen::Vector3d& p : ReadPlyPoints(folder / "map_points.ply")) Push(points, p);
   }
   m.Add("points", points);
-  m.Add("truth", AlignedTruth(stats, trajectory));
+  m.Add("truth", TruthOf(stats, trajectory));
   m.Add("cells", OccupiedCells(folder / "octomap.bt"));
   nlohmann::json objects = nlohmann::json::array();
   if (fs::is_regular_file(folder / "objects.json", ec)) {

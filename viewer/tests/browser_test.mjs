@@ -2,7 +2,9 @@
 // `sgslam run --viewer` of a synthetic sequence is opened, and the test checks
 // that frames, poses, map points, the cloud and objects arrive and are drawn, that
 // pause and step hold the run, and saves a screenshot.
-//   node browser_test.mjs --sgslam BIN --work DIR [--parallel 1] [--chromium PATH] [--screenshot FILE]
+//   node browser_test.mjs --sgslam BIN --work DIR [--dataset DIR] [--parallel 1] [--chromium PATH]
+//                         [--screenshot FILE]
+// (the README's picture: --dataset ../shared/data/dyn_dev --parallel 1 --screenshot docs/viewer.png)
 // Exit 77 (CTest: skipped) when chromium or playwright-core is missing.
 import { spawnSync } from 'node:child_process';
 import { mkdirSync, rmSync } from 'node:fs';
@@ -15,10 +17,13 @@ const browser = await launchChromium(args.chromium);
 const work = args.work;
 rmSync(work, { recursive: true, force: true });
 mkdirSync(work, { recursive: true });
-const data = path.join(work, 'objects');
-const synth = spawnSync(args.sgslam, ['synth', '--out', data, '--preset', 'objects', '--frames', '150'],
-                        { encoding: 'utf8' });
-if (synth.status !== 0) fail(`sgslam synth failed: ${synth.stderr}`);
+let data = args.dataset;  // default: a synthetic `objects` sequence made here
+if (!data) {
+  data = path.join(work, 'objects');
+  const synth = spawnSync(args.sgslam, ['synth', '--out', data, '--preset', 'objects', '--frames', '150'],
+                          { encoding: 'utf8' });
+  if (synth.status !== 0) fail(`sgslam synth failed: ${synth.stderr}`);
+}
 
 // Sequential unless --parallel 1 (the sanitizer job's, for more threads at once).
 const runArgs = ['run', '--dataset', data, '--out', path.join(work, 'out'), '--viewer=0'];
@@ -49,7 +54,8 @@ try {
 
   await page.waitForFunction(() => {
     const v = window.sgslamViewer;
-    return v.frames >= 20 && v.maps >= 3 && v.mapPoints > 0 && v.cloudPoints > 0 && v.objects > 0 && v.cells > 0;
+    return v.frames >= 20 && v.maps >= 3 && v.mapPoints > 0 && v.cloudPoints > 0 && v.objects > 0 && v.cells > 0 &&
+           v.truthPoints > 0;
   }, null, { timeout: 120000 });
   const v = await viewer();
   check(v.frame.pose && v.frame.pose.length === 16, `a pose arrived (frame ${v.frame.index}, ${v.frame.state})`);
@@ -57,6 +63,7 @@ try {
   check(v.cloudPoints > 0, `${v.cloudPoints} cloud points in ${v.pieces} pieces arrived`);
   check(v.objects > 0, `${v.objects} objects arrived`);
   check(v.cells > 0, `${v.cells} OctoMap cells arrived`);
+  check(v.truthPoints > 0, `the ground truth arrived, aligned (${v.truthPoints} poses)`);
   check(v.errors.length === 0, `no error in the page's handling (${v.errors.join('; ')})`);
   const view = await page.evaluate(() => window.sgslamViewer.litShare());
   const image = await litShare(page, '#image');
@@ -64,6 +71,8 @@ try {
   check(image > 0.5, `the frame is drawn (${(100 * image).toFixed(1)} % of its pixels lit)`);
   check(pageErrors.length === 0, `no error in the page's console (${pageErrors.join('; ')})`);
   if (args.screenshot) {
+    await page.uncheck('input[data-layer=cells]');  // the picture shows the cloud's colours
+    await page.waitForTimeout(500);
     await page.screenshot({ path: args.screenshot });
     console.log(`screenshot: ${args.screenshot}`);
   }

@@ -37,6 +37,7 @@ try {
   console.log(`opened in ${seconds.toFixed(2)} s: ${v.mapPoints} map points, ${v.keyframes} keyframes, ` +
               `${v.cloudPoints} cloud points, ${v.cells} OctoMap cells, ${v.objects} objects`);
   check(!v.info.live && v.mapPoints > 0 && v.keyframes > 0 && v.cloudPoints > 0, 'the finished run\'s map arrived');
+  check(v.truthPoints > 0, `the ground truth arrived, aligned (${v.truthPoints} poses)`);
   const view = await page.evaluate(() => window.sgslamViewer.litShare());
   check(view > 0.005, `the 3-D view is drawn (${(100 * view).toFixed(2)} % of its pixels lit)`);
   check(pageErrors.length === 0, `no error in the page's console (${pageErrors.join('; ')})`);

@@ -4,6 +4,8 @@
 //   idle   --viewer, no page open (snapshots taken, nothing sent)
 //   page   a headless chromium page open for the whole run
 //   stuck  a client that asks for the map again and again and never reads
+//   puller a client that pulls like the page (frames at 15 Hz, the map at 2 Hz)
+//          but draws nothing: the server's own cost, without the browser's
 // and prints the medians of the median frame time and fps. Also the page's frame
 // rate on a finished run (--view-run OUTDIR) while the mouse turns the view.
 //   node viewer/tests/viewer_speed.mjs --sgslam BIN --dataset DIR [--repeats 3] [--variants off,page]
@@ -26,20 +28,61 @@ function stuckClient(url) {
   const { hostname, port } = new URL(url);
   const socket = net.connect(Number(port), hostname);
   socket.pause();  // never read: the server's writes pile up in the socket buffers
-  const frame = (text) => {
-    const payload = Buffer.from(text);
-    const mask = Buffer.from([1, 2, 3, 4]);
-    const masked = Buffer.from(payload.map((b, i) => b ^ mask[i % 4]));
-    return Buffer.concat([Buffer.from([0x81, 0x80 | payload.length]), mask, masked]);
-  };
   socket.write(`GET /ws HTTP/1.1\r\nHost: ${hostname}\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n` +
                'Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n');
   const timer = setInterval(() => {
-    socket.write(frame('{"get":"map","pieces_after":-1}'));
-    socket.write(frame('{"get":"frame","have":0}'));
+    socket.write(wsFrame('{"get":"map","pieces_after":-1}'));
+    socket.write(wsFrame('{"get":"frame","have":0}'));
   }, 100);
   socket.on('error', () => clearInterval(timer));
   return () => { clearInterval(timer); socket.destroy(); };
+}
+
+// A masked WebSocket text frame (client to server), payload under 126 bytes.
+function wsFrame(text) {
+  const payload = Buffer.from(text);
+  const mask = Buffer.from([1, 2, 3, 4]);
+  return Buffer.concat([Buffer.from([0x81, 0x80 | payload.length]), mask,
+                        Buffer.from(payload.map((b, i) => b ^ mask[i % 4]))]);
+}
+
+// Pulls frames and maps as the page does, reading (and dropping) what comes.
+function pullerClient(url) {
+  const { hostname, port } = new URL(url);
+  const socket = net.connect(Number(port), hostname);
+  let buffer = Buffer.alloc(0), upgraded = false, stopped = false, parts = [];
+  const ask = (text, ms) => setTimeout(() => { if (!stopped) socket.write(wsFrame(text)); }, ms);
+  socket.write(`GET /ws HTTP/1.1\r\nHost: ${hostname}\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n` +
+               'Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n');
+  socket.on('data', (chunk) => {
+    buffer = Buffer.concat([buffer, chunk]);
+    if (!upgraded) {
+      const end = buffer.indexOf('\r\n\r\n');
+      if (end < 0) return;
+      buffer = buffer.subarray(end + 4);
+      upgraded = true;
+      ask('{"get":"frame","have":0}', 0);
+      ask('{"get":"map","pieces_after":-1}', 0);
+    }
+    for (;;) {  // server frames (unmasked; a message may come in several: FIN on the last)
+      if (buffer.length < 2) return;
+      const fin = (buffer[0] & 0x80) !== 0;
+      let length = buffer[1] & 0x7f, at = 2;
+      if (length === 126) { if (buffer.length < 4) return; length = buffer.readUInt16BE(2); at = 4; }
+      if (length === 127) { if (buffer.length < 10) return; length = Number(buffer.readBigUInt64BE(2)); at = 10; }
+      if (buffer.length < at + length) return;
+      parts.push(buffer.subarray(at, at + length));
+      buffer = buffer.subarray(at + length);
+      if (!fin) continue;
+      const message = Buffer.concat(parts);
+      parts = [];
+      const header = JSON.parse(message.subarray(4, 4 + message.readUInt32LE(0)).toString());
+      if (header.type === 'frame') ask(`{"get":"frame","have":${header.version}}`, 66);
+      if (header.type === 'map') ask('{"get":"map","pieces_after":1000000}', 500);
+    }
+  });
+  socket.on('error', () => {});
+  return () => { stopped = true; socket.destroy(); };
 }
 
 async function runOnce(variant) {
@@ -58,6 +101,8 @@ async function runOnce(variant) {
       await page.goto(url);
     } else if (variant === 'stuck') {
       stop = stuckClient(url);
+    } else if (variant === 'puller') {
+      stop = pullerClient(url);
     }
     await run.exited;
     if (page) await page.close();
@@ -67,7 +112,7 @@ async function runOnce(variant) {
   return { frame: stats.median_ms.frame, fps: stats.fps };
 }
 
-const variants = (args.variants || 'off,idle,page,stuck').split(',');
+const variants = (args.variants || 'off,idle,puller,page,stuck').split(',');
 const results = Object.fromEntries(variants.map((v) => [v, []]));
 for (let i = 0; i < repeats; i++) {
   for (const v of variants) {

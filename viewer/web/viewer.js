@@ -14,7 +14,7 @@ const STATE_NAMES = { ok: 'tracking', lost: 'lost', not_initialized: 'initialisi
 
 // What the tests read (viewer/tests): counts of what arrived and was drawn.
 const state = { info: null, frames: 0, maps: 0, frame: null, mapPoints: 0, cloudPoints: 0, pieces: 0,
-                objects: 0, keyframes: 0, cells: 0, cellsVersion: 0, cellsDrawn: 0, renders: 0, renderFps: 0, errors: [],
+                objects: 0, keyframes: 0, cells: 0, cellsVersion: 0, cellsDrawn: 0, truthPoints: 0, renders: 0, renderFps: 0, errors: [],
                 drawnMaps: 0 };
 window.sgslamViewer = state;
 // For the tests: the share of the 3-D view's pixels unlike the background, read in
@@ -328,7 +328,10 @@ function showMap(header, b) {
     world.updateMatrixWorld();
     fitView(b.points.length > 0 ? b.points : b.path);
   }
-  if (b.truth) setPositions(truthLine.geometry, b.truth);
+  if (b.truth) {
+    setPositions(truthLine.geometry, b.truth);
+    state.truthPoints = b.truth.length / 3;
+  }
   if (b.cells) {
     showCells(b.cells);
     state.cellsDrawn = state.cellsVersion;
