@@ -13,16 +13,6 @@ namespace sgslam::viewer {
 
 namespace {
 
-// Column-major, as three.js's Matrix4.fromArray reads it.
-std::vector<float> Matrix(const SE3& T) {
-  const Eigen::Matrix4d m = T.matrix();
-  std::vector<float> out(16);
-  for (int c = 0; c < 4; ++c) {
-    for (int r = 0; r < 4; ++r) out[4 * c + r] = static_cast<float>(m(r, c));
-  }
-  return out;
-}
-
 double SteadySeconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
@@ -86,7 +76,7 @@ std::shared_ptr<const std::string> LiveSource::EncodeFrame() {
   h["keyframe"] = f->keyframe;
   h["frame_ms"] = f->frame_ms;
   h["paused"] = pause_.paused();
-  if (f->T_w_c) h["pose"] = Matrix(*f->T_w_c);
+  if (f->T_w_c) h["pose"] = ColumnMajor(*f->T_w_c);
   h["width"] = f->bgr.cols;
   h["height"] = f->bgr.rows;
   h["detections"] = nlohmann::json::array();
@@ -125,7 +115,7 @@ std::shared_ptr<const std::string> LiveSource::EncodeMap(const MapRequest& reque
   std::vector<float> kf_poses;
   for (const KeyFramePose& k : map.keyframes) {
     kf_ids.push_back(static_cast<std::uint32_t>(k.id));
-    const std::vector<float> T = Matrix(k.T_w_c);
+    const std::vector<float> T = ColumnMajor(k.T_w_c);
     kf_poses.insert(kf_poses.end(), T.begin(), T.end());
   }
   m.Add("keyframe_ids", kf_ids);
@@ -152,7 +142,7 @@ std::shared_ptr<const std::string> LiveSource::EncodeMap(const MapRequest& reque
   std::vector<std::uint8_t> rgb;
   for (const CloudPiece& piece : map.cloud) {
     piece_ids.push_back(static_cast<std::uint32_t>(piece.keyframe_id));
-    const std::vector<float> T = Matrix(piece.T_w_c);
+    const std::vector<float> T = ColumnMajor(piece.T_w_c);
     piece_poses.insert(piece_poses.end(), T.begin(), T.end());
     if (static_cast<std::int64_t>(piece.keyframe_id) <= request.pieces_after || !piece.points_c) continue;
     const std::vector<ColoredPoint>& pts = *piece.points_c;

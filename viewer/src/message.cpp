@@ -16,6 +16,15 @@ void MessageBuilder::AddRaw(const std::string& name, const char* type, const voi
   PadTo4(body_);
 }
 
+std::vector<float> ColumnMajor(const SE3& T) {
+  const Eigen::Matrix4d m = T.matrix();
+  std::vector<float> out(16);
+  for (int c = 0; c < 4; ++c) {
+    for (int r = 0; r < 4; ++r) out[4 * c + r] = static_cast<float>(m(r, c));
+  }
+  return out;
+}
+
 std::shared_ptr<const std::string> MessageBuilder::Finish() const {
   nlohmann::json header = header_;
   if (!header.contains("buffers")) header["buffers"] = nlohmann::json::array();

@@ -14,6 +14,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "sgslam/common/se3.h"
+
 namespace sgslam::viewer {
 
 class MessageBuilder {
@@ -37,5 +39,8 @@ class MessageBuilder {
   nlohmann::json header_;
   std::string body_;
 };
+
+// A pose as 16 floats, column-major, as three.js's Matrix4.fromArray reads it.
+std::vector<float> ColumnMajor(const SE3& T);
 
 }  // namespace sgslam::viewer

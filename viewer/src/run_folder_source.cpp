@@ -22,15 +22,6 @@ void Push(std::vector<float>& out, const Eigen::Vector3d& p) {
   out.insert(out.end(), {static_cast<float>(p.x()), static_cast<float>(p.y()), static_cast<float>(p.z())});
 }
 
-std::vector<float> Matrix(const SE3& T) {
-  const Eigen::Matrix4d m = T.matrix();
-  std::vector<float> out(16);
-  for (int c = 0; c < 4; ++c) {
-    for (int r = 0; r < 4; ++r) out[4 * c + r] = static_cast<float>(m(r, c));
-  }
-  return out;
-}
-
 nlohmann::json ReadJson(const fs::path& p) {
   std::ifstream in(p);
   nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
@@ -97,7 +88,7 @@ RunFolderSource::RunFolderSource(const fs::path& folder) {
   if (fs::is_regular_file(folder / "keyframes.txt", ec)) {
     for (const StampedPose& k : ReadTumTrajectory(folder / "keyframes.txt")) {
       kf_ids.push_back(static_cast<std::uint32_t>(kf_ids.size()));
-      const std::vector<float> T = Matrix(k.T_w_c);
+      const std::vector<float> T = ColumnMajor(k.T_w_c);
       kf_poses.insert(kf_poses.end(), T.begin(), T.end());
     }
   }
@@ -125,7 +116,7 @@ RunFolderSource::RunFolderSource(const fs::path& folder) {
   m.header()["objects"] = objects;
   // The cloud is one piece (id 0) at the world's origin.
   m.Add("piece_ids", std::vector<std::uint32_t>{0});
-  m.Add("piece_poses", Matrix(SE3()));
+  m.Add("piece_poses", ColumnMajor(SE3()));
   MessageBuilder without = m;
   std::vector<float> xyz;
   std::vector<std::uint8_t> rgb;
