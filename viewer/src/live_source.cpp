@@ -17,6 +17,49 @@ double SteadySeconds() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
+// The cloud: every piece's pose; the points of the pieces the page lacks (ids above
+// pieces_after), an even subsample of at most kMaxPiecePoints each.
+void AddCloudPieces(const std::vector<CloudPiece>& cloud, std::int64_t pieces_after, MessageBuilder& m) {
+  std::vector<std::uint32_t> piece_ids, new_ids, new_counts;
+  std::vector<float> piece_poses, xyz;
+  std::vector<std::uint8_t> rgb;
+  for (const CloudPiece& piece : cloud) {
+    piece_ids.push_back(static_cast<std::uint32_t>(piece.keyframe_id));
+    const std::vector<float> T = ColumnMajor(piece.T_w_c);
+    piece_poses.insert(piece_poses.end(), T.begin(), T.end());
+    if (static_cast<std::int64_t>(piece.keyframe_id) <= pieces_after || !piece.points_c) continue;
+    const std::vector<ColoredPoint>& pts = *piece.points_c;
+    const std::size_t step = (pts.size() + LiveSource::kMaxPiecePoints - 1) / LiveSource::kMaxPiecePoints;
+    std::uint32_t n = 0;
+    for (std::size_t i = 0; i < pts.size(); i += std::max<std::size_t>(step, 1), ++n) {
+      xyz.insert(xyz.end(), {pts[i].p.x(), pts[i].p.y(), pts[i].p.z()});
+      rgb.insert(rgb.end(), {pts[i].rgb[0], pts[i].rgb[1], pts[i].rgb[2]});
+    }
+    new_ids.push_back(static_cast<std::uint32_t>(piece.keyframe_id));
+    new_counts.push_back(n);
+  }
+  m.Add("piece_ids", piece_ids);
+  m.Add("piece_poses", piece_poses);
+  m.Add("new_piece_ids", new_ids);
+  m.Add("new_piece_counts", new_counts);
+  m.Add("new_piece_xyz", xyz);
+  m.Add("new_piece_rgb", rgb);
+}
+
+nlohmann::json ObjectsJson(const std::vector<ObjectEstimate>& estimates) {
+  nlohmann::json objects = nlohmann::json::array();
+  for (const ObjectEstimate& o : estimates) {
+    if (!o.exported) continue;
+    objects.push_back({{"id", o.id},
+                       {"name", o.class_name},
+                       {"confidence", o.confidence},
+                       {"observations", o.observations},
+                       {"centroid", {o.centroid.x(), o.centroid.y(), o.centroid.z()}},
+                       {"size", {o.size.x(), o.size.y(), o.size.z()}}});
+  }
+  return objects;
+}
+
 }  // namespace
 
 void LiveSource::AddFrame(const FrameReport& report) {
@@ -136,42 +179,8 @@ std::shared_ptr<const std::string> LiveSource::EncodeMap(const MapRequest& reque
     std::lock_guard lock(mutex_);
     m.Add("path", path_);
   }
-  // The cloud: every piece's pose; the points of the pieces the page lacks.
-  std::vector<std::uint32_t> piece_ids, new_ids, new_counts;
-  std::vector<float> piece_poses, xyz;
-  std::vector<std::uint8_t> rgb;
-  for (const CloudPiece& piece : map.cloud) {
-    piece_ids.push_back(static_cast<std::uint32_t>(piece.keyframe_id));
-    const std::vector<float> T = ColumnMajor(piece.T_w_c);
-    piece_poses.insert(piece_poses.end(), T.begin(), T.end());
-    if (static_cast<std::int64_t>(piece.keyframe_id) <= request.pieces_after || !piece.points_c) continue;
-    const std::vector<ColoredPoint>& pts = *piece.points_c;
-    const std::size_t step = (pts.size() + kMaxPiecePoints - 1) / kMaxPiecePoints;
-    std::uint32_t n = 0;
-    for (std::size_t i = 0; i < pts.size(); i += std::max<std::size_t>(step, 1), ++n) {
-      xyz.insert(xyz.end(), {pts[i].p.x(), pts[i].p.y(), pts[i].p.z()});
-      rgb.insert(rgb.end(), {pts[i].rgb[0], pts[i].rgb[1], pts[i].rgb[2]});
-    }
-    new_ids.push_back(static_cast<std::uint32_t>(piece.keyframe_id));
-    new_counts.push_back(n);
-  }
-  m.Add("piece_ids", piece_ids);
-  m.Add("piece_poses", piece_poses);
-  m.Add("new_piece_ids", new_ids);
-  m.Add("new_piece_counts", new_counts);
-  m.Add("new_piece_xyz", xyz);
-  m.Add("new_piece_rgb", rgb);
-  nlohmann::json objects = nlohmann::json::array();
-  for (const ObjectEstimate& o : map.objects) {
-    if (!o.exported) continue;
-    objects.push_back({{"id", o.id},
-                       {"name", o.class_name},
-                       {"confidence", o.confidence},
-                       {"observations", o.observations},
-                       {"centroid", {o.centroid.x(), o.centroid.y(), o.centroid.z()}},
-                       {"size", {o.size.x(), o.size.y(), o.size.z()}}});
-  }
-  m.header()["objects"] = std::move(objects);
+  AddCloudPieces(map.cloud, request.pieces_after, m);
+  m.header()["objects"] = ObjectsJson(map.objects);
   return m.Finish();
 }
 

@@ -61,6 +61,53 @@ std::vector<float> OccupiedCells(const fs::path& path) {
   return out;
 }
 
+// The keyframes' poses (ids: their order in keyframes.txt), when the file is there.
+void AddKeyFrames(const fs::path& path, MessageBuilder& m) {
+  std::vector<std::uint32_t> ids;
+  std::vector<float> poses;
+  std::error_code ec;
+  if (fs::is_regular_file(path, ec)) {
+    for (const StampedPose& k : ReadTumTrajectory(path)) {
+      ids.push_back(static_cast<std::uint32_t>(ids.size()));
+      const std::vector<float> T = ColumnMajor(k.T_w_c);
+      poses.insert(poses.end(), T.begin(), T.end());
+    }
+  }
+  m.Add("keyframe_ids", ids);
+  m.Add("keyframe_poses", poses);
+}
+
+// objects.json's objects as the page takes them (the live source's fields).
+nlohmann::json ObjectsOf(const fs::path& path) {
+  nlohmann::json objects = nlohmann::json::array();
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return objects;
+  for (const auto& o : ReadJson(path).value("objects", nlohmann::json::array())) {
+    objects.push_back({{"id", o.value("id", 0)},
+                       {"name", o.value("class", std::string("?"))},
+                       {"confidence", o.value("confidence", 0.0)},
+                       {"observations", o.value("observations", 0)},
+                       {"centroid", o.value("centroid", nlohmann::json::array({0, 0, 0}))},
+                       {"size", o.value("size", nlohmann::json::array({0, 0, 0}))}});
+  }
+  return objects;
+}
+
+// cloud.ply, an even subsample of at most RunFolderSource::kMaxCloudPoints points.
+void ReadCloud(const fs::path& path, std::vector<float>& xyz, std::vector<std::uint8_t>& rgb) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return;
+  std::vector<Rgb> colours;
+  const std::vector<Eigen::Vector3d> cloud = ReadPlyPoints(path, &colours);
+  const std::size_t max = RunFolderSource::kMaxCloudPoints;
+  const std::size_t step = std::max<std::size_t>(1, (cloud.size() + max - 1) / max);
+  for (std::size_t i = 0; i < cloud.size(); i += step) {
+    Push(xyz, cloud[i]);
+    const Rgb c = colours.empty() ? Rgb{200, 200, 200} : colours[i];
+    rgb.insert(rgb.end(), c.begin(), c.end());
+  }
+}
+
 }  // namespace
 
 RunFolderSource::RunFolderSource(const fs::path& folder) {
@@ -83,17 +130,7 @@ RunFolderSource::RunFolderSource(const fs::path& folder) {
   std::vector<float> path;
   for (const StampedPose& p : trajectory) Push(path, p.T_w_c.translation());
   m.Add("path", path);
-  std::vector<std::uint32_t> kf_ids;
-  std::vector<float> kf_poses;
-  if (fs::is_regular_file(folder / "keyframes.txt", ec)) {
-    for (const StampedPose& k : ReadTumTrajectory(folder / "keyframes.txt")) {
-      kf_ids.push_back(static_cast<std::uint32_t>(kf_ids.size()));
-      const std::vector<float> T = ColumnMajor(k.T_w_c);
-      kf_poses.insert(kf_poses.end(), T.begin(), T.end());
-    }
-  }
-  m.Add("keyframe_ids", kf_ids);
-  m.Add("keyframe_poses", kf_poses);
+  AddKeyFrames(folder / "keyframes.txt", m);
   std::vector<float> points;
   if (fs::is_regular_file(folder / "map_points.ply", ec)) {
     for (const Eigen::Vector3d& p : ReadPlyPoints(folder / "map_points.ply")) Push(points, p);
@@ -101,35 +138,14 @@ RunFolderSource::RunFolderSource(const fs::path& folder) {
   m.Add("points", points);
   m.Add("truth", TruthOf(stats, trajectory));
   m.Add("cells", OccupiedCells(folder / "octomap.bt"));
-  nlohmann::json objects = nlohmann::json::array();
-  if (fs::is_regular_file(folder / "objects.json", ec)) {
-    const nlohmann::json j = ReadJson(folder / "objects.json");
-    for (const auto& o : j.value("objects", nlohmann::json::array())) {
-      objects.push_back({{"id", o.value("id", 0)},
-                         {"name", o.value("class", std::string("?"))},
-                         {"confidence", o.value("confidence", 0.0)},
-                         {"observations", o.value("observations", 0)},
-                         {"centroid", o.value("centroid", nlohmann::json::array({0, 0, 0}))},
-                         {"size", o.value("size", nlohmann::json::array({0, 0, 0}))}});
-    }
-  }
-  m.header()["objects"] = objects;
+  m.header()["objects"] = ObjectsOf(folder / "objects.json");
   // The cloud is one piece (id 0) at the world's origin.
   m.Add("piece_ids", std::vector<std::uint32_t>{0});
   m.Add("piece_poses", ColumnMajor(SE3()));
   MessageBuilder without = m;
   std::vector<float> xyz;
   std::vector<std::uint8_t> rgb;
-  if (fs::is_regular_file(folder / "cloud.ply", ec)) {
-    std::vector<Rgb> colours;
-    const std::vector<Eigen::Vector3d> cloud = ReadPlyPoints(folder / "cloud.ply", &colours);
-    const std::size_t step = std::max<std::size_t>(1, (cloud.size() + kMaxCloudPoints - 1) / kMaxCloudPoints);
-    for (std::size_t i = 0; i < cloud.size(); i += step) {
-      Push(xyz, cloud[i]);
-      const Rgb c = colours.empty() ? Rgb{200, 200, 200} : colours[i];
-      rgb.insert(rgb.end(), c.begin(), c.end());
-    }
-  }
+  ReadCloud(folder / "cloud.ply", xyz, rgb);
   const auto n = static_cast<std::uint32_t>(xyz.size() / 3);
   m.Add("new_piece_ids", std::vector<std::uint32_t>{0});
   m.Add("new_piece_counts", std::vector<std::uint32_t>{n});
