@@ -67,8 +67,6 @@ void LiveSource::AddFrame(const FrameReport& report) {
   {
     std::lock_guard lock(mutex_);
     ++version_;
-    ++frames_;
-    if (report.state != TrackState::kOk) ++lost_;
     if (report.state == TrackState::kOk && last_state_ == TrackState::kLost) relocalised_at_ = report.index;
     last_state_ = report.state;
     if (snapshot && snapshot->index == report.index && snapshot->T_w_c) {
@@ -95,22 +93,17 @@ std::shared_ptr<const std::string> LiveSource::EncodeFrame() {
   if (!f) return nullptr;
   MessageBuilder m("frame");
   nlohmann::json& h = m.header();
-  {
-    std::lock_guard lock(mutex_);
-    h["version"] = version_;
-    h["frames"] = frames_;
-    h["lost"] = lost_;
-    h["keyframes"] = keyframes_;
-    h["map_points"] = map_points_;
-    const int judged = kept_ + rejected_;
-    h["rejected_share"] = judged > 0 ? static_cast<double>(rejected_) / judged : 0.0;
-    h["fps"] = arrivals_.size() > 1 ? (arrivals_.size() - 1) / (arrivals_.back() - arrivals_.front()) : 0.0;
-  }
   h["index"] = f->index;
   h["t"] = ToSeconds(f->t);
   h["state"] = ToString(f->state);
   {
     std::lock_guard lock(mutex_);
+    h["version"] = version_;
+    h["keyframes"] = keyframes_;
+    h["map_points"] = map_points_;
+    const int judged = kept_ + rejected_;
+    h["rejected_share"] = judged > 0 ? static_cast<double>(rejected_) / judged : 0.0;
+    h["fps"] = arrivals_.size() > 1 ? (arrivals_.size() - 1) / (arrivals_.back() - arrivals_.front()) : 0.0;
     // Shown for a second or two after the track came back.
     if (relocalised_at_ && f->state == TrackState::kOk && f->index < *relocalised_at_ + kShowRelocalisedFrames) {
       h["state"] = "relocalised at frame " + std::to_string(*relocalised_at_ + 1);
@@ -120,8 +113,6 @@ std::shared_ptr<const std::string> LiveSource::EncodeFrame() {
   h["frame_ms"] = f->frame_ms;
   h["paused"] = pause_.paused();
   if (f->T_w_c) h["pose"] = ColumnMajor(*f->T_w_c);
-  h["width"] = f->bgr.cols;
-  h["height"] = f->bgr.rows;
   h["detections"] = nlohmann::json::array();
   for (const Detection& d : f->detections) {
     h["detections"].push_back({{"name", d.class_name},

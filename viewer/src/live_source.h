@@ -56,7 +56,6 @@ class LiveSource : public Source {
   std::vector<float> path_;            // m, world: every tracked frame's position as tracked
   std::deque<double> arrivals_;        // s, steady clock: the last frames' arrival, for fps
   int keyframes_ = 0, map_points_ = 0, kept_ = 0, rejected_ = 0;
-  std::size_t frames_ = 0, lost_ = 0;
   TrackState last_state_ = TrackState::kNotInitialized;
   std::optional<std::size_t> relocalised_at_;  // the last frame that found the track again
   static constexpr std::size_t kShowRelocalisedFrames = 45;

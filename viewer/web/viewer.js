@@ -14,7 +14,7 @@ const STATE_NAMES = { ok: 'tracking', lost: 'lost', not_initialized: 'initialisi
 
 // What the tests read (viewer/tests): counts of what arrived and was drawn.
 const state = { info: null, frames: 0, maps: 0, frame: null, mapPoints: 0, cloudPoints: 0, pieces: 0,
-                objects: 0, keyframes: 0, cells: 0, cellsVersion: 0, cellsDrawn: 0, truthPoints: 0, renders: 0, renderFps: 0, errors: [],
+                objects: 0, keyframes: 0, cells: 0, cellsVersion: 0, cellsDrawn: 0, truthPoints: 0, renders: 0, errors: [],
                 drawnMaps: 0 };
 window.sgslamViewer = state;
 // For the tests: the share of the 3-D view's pixels unlike the background, read in
@@ -120,7 +120,7 @@ resize();
 // Drawn on demand: when something arrived or the view moved. What arrives is drawn
 // at most every RENDER_INTERVAL_MS (without a GPU a drawing costs the machine tens
 // of milliseconds, and the run shares it); a view the mouse turns, every frame.
-let renderCount = 0, renderSince = performance.now(), dirty = true, lastRender = 0;
+let dirty = true, lastRender = 0;
 const RENDER_INTERVAL_MS = 200;
 function requestRender() { dirty = true; }
 controls.addEventListener('change', requestRender);
@@ -147,13 +147,6 @@ function animate() {
   renderer.render(scene, camera);
   state.drawnMaps = state.maps;  // the maps received by the time of this drawing
   state.renders++;
-  renderCount++;
-  const now = performance.now();
-  if (now - renderSince >= 1000) {
-    state.renderFps = (1000 * renderCount) / (now - renderSince);
-    renderCount = 0;
-    renderSince = now;
-  }
 }
 requestAnimationFrame(animate);
 
