@@ -10,7 +10,6 @@
 
 #include "commands.h"
 #include "run_pipeline.h"
-#include "sgslam/common/data_dir.h"
 #include "sgslam/common/error.h"
 #include "stop_signals.h"
 
@@ -30,17 +29,11 @@ struct ViewOptions {
 
 int View(const ViewOptions& o) {
 #ifdef SGSLAM_WITH_VIEWER
-  const auto data = DataDir();
-  if (!data) throw Error("view: the page's files were not found (no share/sgslam beside the executable)");
-  if (o.address != "127.0.0.1" && o.address != "::1") {
-    spdlog::warn("view: serving on {}: anyone who can reach it can see this run", o.address);
-  }
   const StopSignals stop;
   viewer::RunFolderSource source(o.folder);
   viewer::ServerOptions options;
   options.address = o.address;
   options.port = static_cast<std::uint16_t>(o.port);
-  options.assets = *data / "viewer";
   viewer::Server server(options, source);
   spdlog::info("view: {}: open {} in a web browser (Ctrl-C to stop)", o.folder, server.url());
   StopSignals::WaitUntil(std::chrono::steady_clock::time_point::max());

@@ -2,7 +2,6 @@
 
 #include <spdlog/spdlog.h>
 
-#include "sgslam/common/data_dir.h"
 #include "sgslam/common/error.h"
 #include "stop_signals.h"
 
@@ -24,17 +23,11 @@ struct RunViewer::Impl {
 
 RunViewer::RunViewer(SlamSystem& system, const std::string& address, int port, nlohmann::json info,
                      Trajectory truth) {
-  const auto data = DataDir();
-  if (!data) throw Error("viewer: the page's files were not found (no share/sgslam beside the executable)");
-  if (address != "127.0.0.1" && address != "::1" && address != "localhost") {
-    spdlog::warn("viewer: serving on {}: anyone who can reach it can watch and pause this run", address);
-  }
   system.EnableSnapshots();
   impl_ = std::make_unique<Impl>(system, std::move(info), std::move(truth));
   viewer::ServerOptions options;
-  options.address = address == "localhost" ? "127.0.0.1" : address;
+  options.address = address;
   options.port = static_cast<std::uint16_t>(port);
-  options.assets = *data / "viewer";
   impl_->server = std::make_unique<viewer::Server>(options, impl_->source);
   impl_->source.set_server(impl_->server.get());
   spdlog::info("viewer: open {} in a web browser", impl_->server->url());

@@ -149,6 +149,9 @@ TEST(ViewerServer, RefusesAnAddressItCannotListenOn) {
   ServerOptions bad = f.options;
   bad.address = "not-an-address";
   EXPECT_THROW(Server(bad, f.source), InputError);
+  ServerOptions local = f.options;  // the name is taken for loopback
+  local.address = "localhost";
+  EXPECT_NE(Server(local, f.source).port(), 0);
   ServerOptions empty = f.options;
   empty.assets = f.dir / "three";
   EXPECT_THROW(Server(empty, f.source), Error);

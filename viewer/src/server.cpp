@@ -15,6 +15,7 @@
 #include <boost/beast/websocket.hpp>
 #include <spdlog/spdlog.h>
 
+#include "sgslam/common/data_dir.h"
 #include "sgslam/common/error.h"
 #include "sgslam/common/thread_name.h"
 
@@ -297,13 +298,23 @@ void Server::Impl::Deliver() {
 
 Server::Server(ServerOptions options, Source& source) : impl_(std::make_unique<Impl>(std::move(options), source)) {
   Impl& m = *impl_;
+  if (m.options.assets.empty()) {
+    const auto data = DataDir();
+    if (!data) throw Error("viewer: the page's files were not found (no share/sgslam beside the executable)");
+    m.options.assets = *data / "viewer";
+  }
   if (!std::filesystem::is_regular_file(m.options.assets / "index.html")) {
     throw Error("viewer: no index.html in " + m.options.assets.string() +
-                " (the page's files; built with the viewer, see docs/viewer.md)");
+                " (the page's files, copied there by a build with SGSLAM_VIEWER on)");
   }
+  if (m.options.address == "localhost") m.options.address = "127.0.0.1";
   beast::error_code ec;
   const auto address = net::ip::make_address(m.options.address, ec);
   if (ec) throw InputError("viewer: '" + m.options.address + "' is not an IP address");
+  if (!address.is_loopback()) {
+    spdlog::warn("viewer: serving on {}: anyone who can reach it can see the run (and pause a live one)",
+                 m.options.address);
+  }
   const tcp::endpoint endpoint(address, m.options.port);
   const std::string where = m.options.address + ":" + std::to_string(m.options.port);
   m.acceptor.open(endpoint.protocol(), ec);

@@ -42,9 +42,9 @@ class Source {
 };
 
 struct ServerOptions {
-  std::string address = "127.0.0.1";
+  std::string address = "127.0.0.1";  // or "localhost"; another than loopback is served with a warning
   std::uint16_t port = 0;        // 0: any free port
-  std::filesystem::path assets;  // the page's files (index.html, ...)
+  std::filesystem::path assets;  // the page's files (index.html, ...); empty: share/sgslam/viewer
 };
 
 class Server {
