@@ -4,28 +4,17 @@
 #include <nlohmann/json.hpp>
 
 #include "sgslam/io/text_file.h"
+#include "sgslam/semantic/object_json.h"
 
 namespace sgslam::app {
 
 void WriteObjectsJson(const std::filesystem::path& path, const std::vector<ObjectEstimate>& objects) {
-  nlohmann::json list = nlohmann::json::array();
-  for (const ObjectEstimate& o : objects) {
-    if (!o.exported) continue;
-    list.push_back({{"id", o.id},
-                    {"class", o.class_name},
-                    {"class_id", o.class_id},
-                    {"confidence", o.confidence},
-                    {"observations", o.observations},
-                    {"complete", o.complete},
-                    {"centroid", {o.centroid.x(), o.centroid.y(), o.centroid.z()}},
-                    {"size", {o.size.x(), o.size.y(), o.size.z()}}});
-  }
   const nlohmann::json doc = {
       {"map_frame",
        "the camera frame of the first keyframe: x right, y down, z forward, metres (as trajectory.txt); "
        "size is the axis-aligned extent in this frame, centroid the centre of that box; "
        "complete false: every view of the object was cut by the image border, the box covers the part seen"},
-      {"objects", list}};
+      {"objects", ObjectsJson(objects)}};
   WriteFileAtomically(path, doc.dump(2) + "\n");
 }
 

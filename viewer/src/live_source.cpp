@@ -6,6 +6,7 @@
 #include <opencv2/imgcodecs.hpp>
 
 #include "message.h"
+#include "sgslam/semantic/object_json.h"
 #include "truth.h"
 #include "sgslam/common/time.h"
 
@@ -46,19 +47,6 @@ void AddCloudPieces(const std::vector<CloudPiece>& cloud, std::int64_t pieces_af
   m.Add("new_piece_rgb", rgb);
 }
 
-nlohmann::json ObjectsJson(const std::vector<ObjectEstimate>& estimates) {
-  nlohmann::json objects = nlohmann::json::array();
-  for (const ObjectEstimate& o : estimates) {
-    if (!o.exported) continue;
-    objects.push_back({{"id", o.id},
-                       {"name", o.class_name},
-                       {"confidence", o.confidence},
-                       {"observations", o.observations},
-                       {"centroid", {o.centroid.x(), o.centroid.y(), o.centroid.z()}},
-                       {"size", {o.size.x(), o.size.y(), o.size.z()}}});
-  }
-  return objects;
-}
 
 }  // namespace
 

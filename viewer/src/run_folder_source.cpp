@@ -1,5 +1,6 @@
 #include "run_folder_source.h"
 
+#include <algorithm>
 #include <fstream>
 
 #include <octomap/OcTree.h>
@@ -77,18 +78,23 @@ void AddKeyFrames(const fs::path& path, MessageBuilder& m) {
   m.Add("keyframe_poses", poses);
 }
 
-// objects.json's objects as the page takes them (the live source's fields).
+// objects.json's objects (semantic/object_json.h's form, as the live page gets them).
 nlohmann::json ObjectsOf(const fs::path& path) {
-  nlohmann::json objects = nlohmann::json::array();
   std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) return objects;
-  for (const auto& o : ReadJson(path).value("objects", nlohmann::json::array())) {
-    objects.push_back({{"id", o.value("id", 0)},
-                       {"name", o.value("class", std::string("?"))},
-                       {"confidence", o.value("confidence", 0.0)},
-                       {"observations", o.value("observations", 0)},
-                       {"centroid", o.value("centroid", nlohmann::json::array({0, 0, 0}))},
-                       {"size", o.value("size", nlohmann::json::array({0, 0, 0}))}});
+  if (!fs::is_regular_file(path, ec)) return nlohmann::json::array();
+  nlohmann::json objects = ReadJson(path).value("objects", nlohmann::json::array());
+  if (!objects.is_array()) throw InputError(path.string() + ": 'objects' is not a list");
+  const auto three_numbers = [](const nlohmann::json& v) {
+    return v.is_array() && v.size() == 3 && std::all_of(v.begin(), v.end(), [](const auto& x) { return x.is_number(); });
+  };
+  for (std::size_t i = 0; i < objects.size(); ++i) {
+    const nlohmann::json& o = objects[i];
+    if (!o.is_object() || !o.contains("class") || !o["class"].is_string() || !o.contains("confidence") ||
+        !o["confidence"].is_number() || !o.contains("centroid") || !three_numbers(o["centroid"]) ||
+        !o.contains("size") || !three_numbers(o["size"])) {
+      throw InputError(path.string() + ": object " + std::to_string(i + 1) +
+                       " lacks a class, confidence, centroid or size as sgslam run writes them");
+    }
   }
   return objects;
 }

@@ -264,7 +264,7 @@ function showObjects(objects) {
                                        new THREE.LineBasicMaterial({ color: 0xffd23d }));
     box.position.set(...o.centroid);
     objectBoxes.add(box);
-    const l = label(`${o.name} ${o.confidence.toFixed(2)}`);
+    const l = label(`${o.class} ${o.confidence.toFixed(2)}`);
     l.position.set(o.centroid[0], o.centroid[1] - o.size[1] / 2 - 0.08, o.centroid[2]);
     objectBoxes.add(l);
   }

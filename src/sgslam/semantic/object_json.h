@@ -1,0 +1,16 @@
+// The semantic objects as JSON, one form for objects.json and the viewer's page:
+// id, class, class_id, confidence, observations, complete, centroid, size.
+#pragma once
+
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "sgslam/semantic/objects.h"
+
+namespace sgslam {
+
+// The exported objects only (ObjectEstimate::exported), in their order.
+nlohmann::json ObjectsJson(const std::vector<ObjectEstimate>& objects);
+
+}  // namespace sgslam
