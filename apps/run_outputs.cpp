@@ -25,6 +25,35 @@ nlohmann::json MedianOf(const std::vector<FrameReport>& reports, double FrameRep
 
 }  // namespace
 
+std::string FailedOutputs::Joined() const {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+RunMaps WriteSystemOutputs(const std::filesystem::path& out, SlamSystem& system, std::vector<FrameReport>& reports,
+                           bool has_detector, bool print_objects, FailedOutputs& failed) {
+  failed.Try("frames.csv", [&] { WriteFramesCsv(out / "frames.csv", reports); });
+  if (has_detector) failed.Try("detections.txt", [&] { WriteDetections(out / "detections.txt", reports); });
+  RunMaps maps;
+  maps.trajectory = system.FrameTrajectory();
+  failed.Try("trajectory.txt", [&] { WriteTumTrajectory(out / "trajectory.txt", maps.trajectory); });
+  failed.Try("keyframes.txt", [&] { WriteTumTrajectory(out / "keyframes.txt", system.KeyFrameTrajectory()); });
+  failed.Try("trajectory_online.txt",
+             [&] { WriteTumTrajectory(out / "trajectory_online.txt", system.OnlineTrajectory()); });
+  const auto points = system.MapPointPositions();
+  maps.map_points = points.size();
+  failed.Try("map_points.ply", [&] { WritePly(out / "map_points.ply", points); });
+  if (system.semantic() != nullptr) {
+    const OutputWriter each = [&](const std::string& name, const std::function<void()>& write) {
+      failed.Try(name, write);
+    };
+    failed.Try("the semantic map",
+               [&] { maps.semantic = WriteSemanticMap(out, system, maps.trajectory, print_objects, each); });
+  }
+  return maps;
+}
+
 void WriteFramesCsv(const std::filesystem::path& path, const std::vector<FrameReport>& reports) {
   std::ostringstream csv;
   csv << "index,timestamp,state,features,kept,rejected_geometry,rejected_semantics,rejected_depth,detections,"

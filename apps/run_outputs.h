@@ -2,10 +2,13 @@
 // each from the frame reports or the finished system.
 #pragma once
 
+#include <exception>
 #include <filesystem>
 #include <functional>
 #include <string>
 #include <vector>
+
+#include <spdlog/spdlog.h>
 
 #include <nlohmann/json.hpp>
 
@@ -26,6 +29,33 @@ using OutputWriter = std::function<void(const std::string& name, const std::func
 // table on stdout when print_objects); returns stats.json's semantic section.
 nlohmann::json WriteSemanticMap(const std::filesystem::path& out, SlamSystem& system, const Trajectory& trajectory,
                                 bool print_objects, const OutputWriter& write_output);
+
+// Runs each output's writer and keeps the names of those that failed (logged).
+struct FailedOutputs {
+  std::vector<std::string> names;
+  template <typename Fn>
+  void Try(const std::string& name, Fn write) {
+    try {
+      write();
+    } catch (const std::exception& e) {
+      spdlog::error("{} not written: {}", name, e.what());
+      names.push_back(name);
+    }
+  }
+  std::string Joined() const;
+};
+
+struct RunMaps {
+  Trajectory trajectory;
+  std::size_t map_points = 0;
+  nlohmann::json semantic;  // stats.json's semantic section; null without the semantic thread
+};
+
+// Every output of a finished system but stats.json, each on its own: frames.csv,
+// detections.txt (has_detector), the trajectories, map_points.ply and the semantic
+// map. `sgslam run` and the ROS node write the same files.
+RunMaps WriteSystemOutputs(const std::filesystem::path& out, SlamSystem& system, std::vector<FrameReport>& reports,
+                           bool has_detector, bool print_objects, FailedOutputs& failed);
 
 // stats.json sections.
 nlohmann::json MedianMsJson(const std::vector<FrameReport>& reports, double median_frame_ms);

@@ -303,30 +303,6 @@ void WriteConfigUsed(const RunConfig& rc, const fs::path& out) {
   WriteFileAtomically(out / "config_used.yaml", yaml);
 }
 
-// Runs each output's writer and keeps the names of those that failed (logged).
-struct FailedOutputs {
-  std::vector<std::string> names;
-  template <typename Fn>
-  void Try(const std::string& name, Fn write) {
-    try {
-      write();
-    } catch (const std::exception& e) {
-      spdlog::error("{} not written: {}", name, e.what());
-      names.push_back(name);
-    }
-  }
-  std::string Joined() const {
-    std::string out;
-    for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
-    return out;
-  }
-};
-
-struct RunMaps {
-  Trajectory trajectory;
-  std::size_t map_points = 0;
-  nlohmann::json semantic;  // stats.json's semantic section; null without the semantic thread
-};
 
 // The semantic scores against ground-truth masks, into semantic["truth"]. Scoring
 // rereads masks and depth; one that cannot be read costs the scores (warned), not
@@ -340,30 +316,13 @@ void AddSemanticTruth(const TruthScorer& truth, const SemanticMapper& sem, const
   }
 }
 
-// Every output but stats.json, each on its own: one that cannot be written does not
-// keep the others back.
+// Every output but stats.json, each on its own (run_outputs.h), and the semantic
+// map's scores against the dataset's ground-truth masks.
 RunMaps WriteOutputs(const RunOptions& o, const Config& config, const TumDataset& dataset, FrameLoop& loop,
                      SlamSystem& system, const TruthScorer& truth, bool has_detector, const fs::path& out,
                      FailedOutputs& failed) {
-  failed.Try("frames.csv", [&] { WriteFramesCsv(out / "frames.csv", loop.reports); });
-  if (has_detector) failed.Try("detections.txt", [&] { WriteDetections(out / "detections.txt", loop.reports); });
-  RunMaps maps;
-  maps.trajectory = system.FrameTrajectory();
-  failed.Try("trajectory.txt", [&] { WriteTumTrajectory(out / "trajectory.txt", maps.trajectory); });
-  failed.Try("keyframes.txt", [&] { WriteTumTrajectory(out / "keyframes.txt", system.KeyFrameTrajectory()); });
-  failed.Try("trajectory_online.txt",
-             [&] { WriteTumTrajectory(out / "trajectory_online.txt", system.OnlineTrajectory()); });
-  const auto points = system.MapPointPositions();
-  maps.map_points = points.size();
-  failed.Try("map_points.ply", [&] { WritePly(out / "map_points.ply", points); });
-  if (SemanticMapper* sem = system.semantic()) {
-    const OutputWriter each = [&](const std::string& name, const std::function<void()>& write) {
-      failed.Try(name, write);
-    };
-    failed.Try("the semantic map",
-               [&] { maps.semantic = WriteSemanticMap(out, system, maps.trajectory, o.print_objects, each); });
-    AddSemanticTruth(truth, *sem, dataset, config.camera, maps.semantic);
-  }
+  RunMaps maps = WriteSystemOutputs(out, system, loop.reports, has_detector, o.print_objects, failed);
+  if (const SemanticMapper* sem = system.semantic()) AddSemanticTruth(truth, *sem, dataset, config.camera, maps.semantic);
   return maps;
 }
 
