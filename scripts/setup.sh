@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # Installs the Debian packages sgslam needs (only the missing ones; apt-get update
 # only when something must be installed) and configures and builds a Release build.
-#   scripts/setup.sh [--no-build] [--asan|--tsan|--fuzz] [--target T]...
+#   scripts/setup.sh [--no-build] [--ros] [--asan|--tsan|--fuzz] [--target T]...
 # Build folder: build, build-asan, build-tsan or build-fuzz (--fuzz: clang-14 and
 # libFuzzer too; scripts/fuzz.sh runs the fuzz targets). --target builds a CMake
 # target (repeat it for more; the demo builds only `sgslam`); without it every
-# target, tests included.
+# target, tests included. --ros also installs Debian's ROS 1 packages, so that the
+# node sgslam_ros and its player are built (ros/, docs/ros.md) and its tests run.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -23,6 +24,16 @@ PACKAGES=(
 # has npm and conflicts with Debian's).
 command -v npm >/dev/null || PACKAGES+=(npm)
 
+# ROS 1 from Debian (--ros): the node's libraries and messages, the master,
+# roslaunch and rospy (the end-to-end test), rosbag (bags), rviz and Xvfb (its screenshot).
+ROS_PACKAGES=(
+  libroscpp-dev libmessage-filters-dev libtf2-ros-dev libgeometry-msgs-dev libsensor-msgs-dev libnav-msgs-dev
+  libvisualization-msgs-dev libstd-srvs-dev
+  python3-rosmaster python3-roslaunch rosout python3-rospy python3-rosgraph python3-rosbag python3-roslib
+  python3-sensor-msgs python3-nav-msgs python3-std-srvs python3-visualization-msgs python3-geometry-msgs
+  rviz xvfb x11-apps imagemagick
+)
+
 build=1
 build_dir=build
 cmake_flags=(-DCMAKE_BUILD_TYPE=Release)
@@ -31,6 +42,7 @@ while [ $# -gt 0 ]; do
   arg=$1; shift
   case "$arg" in
     --no-build) build=0 ;;
+    --ros) PACKAGES+=("${ROS_PACKAGES[@]}") ;;
     --target)
       [ $# -gt 0 ] || { echo "setup.sh: --target needs a target name" >&2; exit 2; }
       targets+=(--target "$1"); shift ;;
@@ -45,7 +57,7 @@ while [ $# -gt 0 ]; do
       cmake_flags=(-DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSGSLAM_FUZZ=ON -DSGSLAM_VIEWER=OFF
                    -DSGSLAM_BUILD_TESTS=OFF -DSGSLAM_BUILD_BENCH=OFF)
       PACKAGES+=(clang-14 libclang-rt-14-dev) ;;
-    *) echo "setup.sh: unknown option '$arg' (use --no-build, --asan, --tsan, --fuzz or --target T)" >&2; exit 2 ;;
+    *) echo "setup.sh: unknown option '$arg' (use --no-build, --ros, --asan, --tsan, --fuzz or --target T)" >&2; exit 2 ;;
   esac
 done
 

@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Rviz with the shipped configuration, under Xvfb, watching the node on a sequence
+# played by sgslam_ros_play; a screenshot of the screen when the sequence is done.
+#   ros/tests/rviz_screenshot.sh [--build DIR] [--rate R] [--config C] DATASET OUT.png
+# Starts its own master (roslaunch) on a free port and its own X display; stops both.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+build=build rate=1.0 config=""
+while [ $# -gt 2 ]; do
+  case "$1" in
+    --build) build=$2; shift 2 ;;
+    --rate) rate=$2; shift 2 ;;
+    --config) config=$2; shift 2 ;;
+    *) echo "rviz_screenshot.sh: unknown option $1" >&2; exit 2 ;;
+  esac
+done
+[ $# -eq 2 ] || { echo "usage: rviz_screenshot.sh [--build DIR] [--rate R] [--config C] DATASET OUT.png" >&2; exit 2; }
+dataset=$(realpath "$1") png=$(realpath -m "$2") build=$(realpath "$build")
+for tool in Xvfb roslaunch rviz import; do
+  command -v $tool >/dev/null || { echo "SKIP: $tool is not installed (scripts/setup.sh --ros)"; exit 77; }
+done
+[ -x "$build/sgslam_ros" ] || { echo "SKIP: $build/sgslam_ros is not built"; exit 77; }
+
+work=$(mktemp -d)
+port=$(/usr/bin/python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')
+display=$((100 + port % 400))
+export DISPLAY=:$display ROS_MASTER_URI=http://127.0.0.1:$port ROS_IP=127.0.0.1 ROS_HOME=$work/ros_home
+export ROS_PACKAGE_PATH=$build/share/sgslam/ros:/usr/share LIBGL_ALWAYS_SOFTWARE=1
+pids=()
+cleanup() {
+  for p in "${pids[@]}"; do kill -INT "$p" 2>/dev/null || true; done
+  sleep 3
+  for p in "${pids[@]}"; do kill -KILL "$p" 2>/dev/null || true; done
+  rm -rf "$work"
+}
+trap cleanup EXIT
+Xvfb ":$display" -screen 0 1400x860x24 -nolisten tcp > "$work/xvfb.log" 2>&1 &
+pids+=($!)
+sleep 1
+roslaunch -p "$port" sgslam sgslam.launch out:="$work/out" config:="$config" use_camera_info:=false \
+  > "$work/launch.log" 2>&1 &
+pids+=($!)
+"$build/sgslam_ros_play" "$dataset" --rate "$rate" --wait-subscribers 60 > "$work/play.log" 2>&1 || {
+  echo "sgslam_ros_play failed:"; cat "$work/play.log"; tail -20 "$work/launch.log"; exit 1; }
+sleep 4  # the last keyframe's maps (published at most once a second)
+import -window root "$png"
+echo "screenshot: $png"
+grep -E "frames processed|ERROR" "$work/launch.log" || true
