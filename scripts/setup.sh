@@ -31,7 +31,7 @@ ROS_PACKAGES=(
   libvisualization-msgs-dev libstd-srvs-dev
   python3-rosmaster python3-roslaunch rosout python3-rospy python3-rosgraph python3-rosbag python3-roslib
   python3-sensor-msgs python3-nav-msgs python3-std-srvs python3-visualization-msgs python3-geometry-msgs
-  rviz xvfb x11-apps imagemagick
+  python3-opencv python3-numpy rviz xvfb x11-apps imagemagick
 )
 
 build=1

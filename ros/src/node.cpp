@@ -92,10 +92,18 @@ SlamNode::SlamNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, NodeOptions
   if (options_.use_camera_info && !options_.info_topic.empty()) {
     info_sub_ = nh_.subscribe(options_.info_topic, 2, &SlamNode::OnCameraInfo, this);
   }
-  rgb_sub_.subscribe(nh_, options_.rgb_topic, static_cast<std::uint32_t>(options_.sync_queue));
-  depth_sub_.subscribe(nh_, options_.depth_topic, static_cast<std::uint32_t>(options_.sync_queue));
+  // TCP_NODELAY: with Nagle's algorithm the tail of each image waits for the ACK.
+  const ros::TransportHints hints = ros::TransportHints().tcpNoDelay();
+  rgb_sub_.subscribe(nh_, options_.rgb_topic, static_cast<std::uint32_t>(options_.sync_queue), hints);
+  depth_sub_.subscribe(nh_, options_.depth_topic, static_cast<std::uint32_t>(options_.sync_queue), hints);
+  // The policy holds a pair until it can prove no later message pairs better. A
+  // lower bound on the interval between a topic's messages proves it at once for
+  // pairs stamped up to about half a frame apart (RealSense's aligned depth: 0);
+  // without it every pair waited for the next frame (fr1_rpy: 73 ms from message
+  // time to pose, not 36; docs/results.md).
   sync_ = std::make_unique<message_filters::Synchronizer<Policy>>(Policy(static_cast<std::uint32_t>(options_.sync_queue)),
                                                                    rgb_sub_, depth_sub_);
+  sync_->setInterMessageLowerBound(ros::Duration(0.9 / config_.config.camera.fps));
   sync_->registerCallback(&SlamNode::OnImages, this);
   spdlog::info("sgslam_ros: mode {}, config {}; listening to {} and {}{}; outputs in {}", config_.config.dynamic.mode,
                config_.source, options_.rgb_topic, options_.depth_topic,
@@ -114,21 +122,18 @@ void SlamNode::OnCameraInfo(const sensor_msgs::CameraInfoConstPtr& info) {
   if (!info_) info_ = *info;
 }
 
-// Refuses a frame whose stamp is not after the last one (a duplicate or one out of
-// order: tracking needs time to go forward); tells of a gap in the stream.
-bool SlamNode::CheckStamp(Timestamp t) {
+// Why a frame's stamp is refused: not after the last one taken (a duplicate or one
+// out of order: tracking needs time to go forward), or empty. Tells of a gap.
+std::string SlamNode::CheckStamp(Timestamp t) {
   if (last_t_ && t <= *last_t_) {
-    ++rejected_input_;
-    const char* what = t == *last_t_ ? "duplicated" : "out of order";
-    ROS_WARN_THROTTLE(5.0, "sgslam_ros: frame stamped %.6f is %s (last %.6f): skipped (%zu input frames refused)",
-                      ToSeconds(t), what, ToSeconds(*last_t_), rejected_input_);
-    return false;
+    return fmt::format("its stamp is {} the last frame's ({:.6f})", t == *last_t_ ? "the same as" : "before",
+                       ToSeconds(*last_t_));
   }
   if (last_t_ && t - *last_t_ > FromSeconds(1.0)) {
     ROS_WARN("sgslam_ros: images resumed after a gap of %.1f s in their stamps", ToSeconds(t - *last_t_));
   }
   last_t_ = t;
-  return true;
+  return {};
 }
 
 // The camera, fixed at the first frame taken: camera_info's when it has come (and
@@ -145,7 +150,18 @@ bool SlamNode::ChooseCamera(Timestamp t) {
   CameraConfig camera = config_.config.camera;
   if (info) {
     std::string error;
-    if (auto c = CameraFromInfo(*info, config_.config.camera, &error)) {
+    std::optional<CameraConfig> c = CameraFromInfo(*info, config_.config.camera, &error);
+    if (c) {
+      try {
+        Config check = config_.config;
+        check.camera = *c;
+        check.Validate(options_.info_topic);
+      } catch (const std::exception& e) {
+        error = e.what();
+        c.reset();
+      }
+    }
+    if (c) {
       camera = *c;
       ROS_INFO("sgslam_ros: camera from %s: %dx%d fx %.1f fy %.1f cx %.1f cy %.1f", options_.info_topic.c_str(),
                camera.width, camera.height, camera.fx, camera.fy, camera.cx, camera.cy);
@@ -157,7 +173,6 @@ bool SlamNode::ChooseCamera(Timestamp t) {
              options_.info_topic.c_str(), options_.camera_info_wait, config_.source.c_str());
   }
   config_.config.camera = camera;
-  config_.config.Validate(config_.source + " + camera_info");
   camera_ = camera;
   return true;
 }
@@ -165,31 +180,29 @@ bool SlamNode::ChooseCamera(Timestamp t) {
 void SlamNode::OnImages(const sensor_msgs::ImageConstPtr& rgb, const sensor_msgs::ImageConstPtr& depth) {
   const Clock::time_point arrival = Clock::now();
   const Timestamp t = FromRosTime(rgb->header.stamp);
-  const auto refuse = [&](const std::string& error) {
+  // A frame refused: logged when the kind of problem changes, not every frame.
+  const auto refuse = [&](const char* kind, const std::string& error) {
     ++rejected_input_;
-    if (error != last_input_error_) {  // each new kind of error once, not every frame
-      ROS_ERROR("sgslam_ros: frame %.6f skipped: %s", ToSeconds(t), error.c_str());
-      last_input_error_ = error;
+    if (kind != last_input_error_) {
+      ROS_ERROR("sgslam_ros: frame %.6f skipped: %s (%zu frames refused so far)", ToSeconds(t), error.c_str(),
+                rejected_input_);
+      last_input_error_ = kind;
     }
   };
-  try {
-    if (!ChooseCamera(t)) return;
-  } catch (const std::exception& e) {
-    return refuse(e.what());
-  }
+  if (!ChooseCamera(t)) return;
   Converted colour = ColourToBgr(*rgb);
-  if (!colour.error.empty()) return refuse(colour.error);
+  if (!colour.error.empty()) return refuse("colour", colour.error);
   Converted raw = DepthToRaw(*depth, camera_->depth_factor);
-  if (!raw.error.empty()) return refuse(raw.error);
+  if (!raw.error.empty()) return refuse("depth", raw.error);
   if (colour.image.size() != raw.image.size()) {
-    return refuse(fmt::format("colour image {}x{} and depth image {}x{} differ in size", colour.image.cols,
-                              colour.image.rows, raw.image.cols, raw.image.rows));
+    return refuse("sizes", fmt::format("colour image {}x{} and depth image {}x{} differ in size", colour.image.cols,
+                                       colour.image.rows, raw.image.cols, raw.image.rows));
   }
   if (colour.image.cols != camera_->width || colour.image.rows != camera_->height) {
-    return refuse(fmt::format("images are {}x{}, the camera is {}x{}", colour.image.cols, colour.image.rows,
-                              camera_->width, camera_->height));
+    return refuse("camera", fmt::format("images are {}x{}, the camera is {}x{}", colour.image.cols,
+                                        colour.image.rows, camera_->width, camera_->height));
   }
-  if (!CheckStamp(t)) return;
+  if (const std::string error = CheckStamp(t); !error.empty()) return refuse("stamp", error);
   if (!last_input_error_.empty()) {
     ROS_INFO("sgslam_ros: frames are usable again");
     last_input_error_.clear();

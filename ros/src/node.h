@@ -43,7 +43,7 @@ struct NodeOptions {
   bool sequential = false;
   bool use_camera_info = true;      // intrinsics from camera_info (else the config's camera)
   double camera_info_wait = 1.0;    // s after the first images before falling back to the config's camera
-  int queue_size = 1;               // frames waiting for the tracking thread; more: the oldest is dropped
+  int queue_size = 2;               // frames waiting for the tracking thread; more: the oldest is dropped
   int sync_queue = 10;              // messages message_filters keeps per topic to pair them
   std::string map_frame = "map";    // the first keyframe's camera (optical) frame
   std::string camera_frame = "camera";
@@ -75,7 +75,7 @@ class SlamNode {
 
   void OnImages(const sensor_msgs::ImageConstPtr& rgb, const sensor_msgs::ImageConstPtr& depth);
   void OnCameraInfo(const sensor_msgs::CameraInfoConstPtr& info);
-  bool CheckStamp(Timestamp t);
+  std::string CheckStamp(Timestamp t);
   bool ChooseCamera(Timestamp t);
   bool OnSave(std_srvs::Trigger::Request& req, std_srvs::Trigger::Response& res);
   void Work();
@@ -105,7 +105,7 @@ class SlamNode {
   std::optional<Timestamp> first_image_t_, last_t_;
   std::size_t index_ = 0;
   std::size_t rejected_input_ = 0;  // frames refused: bad encoding, size, stamp
-  std::string last_input_error_;
+  std::string last_input_error_;  // the kind of the last refusal, until a frame is taken
   DropOldestQueue<Pending> queue_;
 
   // Tracking side (worker_).

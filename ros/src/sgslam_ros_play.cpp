@@ -166,8 +166,10 @@ class TopicSink : public Sink {
 };
 
 // Every frame to sink; with pace, each at the time of its colour timestamp (from the
-// first frame's, divided by rate). Returns the frames written.
-std::size_t Play(const PlayOptions& o, Sink& sink, bool pace) {
+// first frame's, divided by rate). Returns the frames written; *late: how many went
+// out more than 10 ms after their time (the machine was busy).
+std::size_t Play(const PlayOptions& o, Sink& sink, bool pace, std::size_t* late_out = nullptr) {
+  std::size_t late = 0;
   const sgslam::RunConfig rc = sgslam::ResolveRunConfig(
       o.config.empty() ? std::nullopt : std::optional<fs::path>(o.config), o.folder);
   const sgslam::TumDataset dataset(o.folder, rc.config.dataset);
@@ -178,8 +180,10 @@ std::size_t Play(const PlayOptions& o, Sink& sink, bool pace) {
   std::size_t n = 0;
   while (auto frame = stream.Next()) {
     if (pace) {
-      std::this_thread::sleep_until(start + std::chrono::nanoseconds(static_cast<std::int64_t>((frame->t - t0) / o.rate)));
+      const auto due = start + std::chrono::nanoseconds(static_cast<std::int64_t>((frame->t - t0) / o.rate));
+      std::this_thread::sleep_until(due);
       if (!ros::ok()) break;
+      late += std::chrono::steady_clock::now() - due > std::chrono::milliseconds(10);
     }
     const sgslam::FrameRecord& rec = dataset.frames()[frame->index];
     const ros::Time now = ros::Time::now();
@@ -190,6 +194,7 @@ std::size_t Play(const PlayOptions& o, Sink& sink, bool pace) {
     sink.Write(o.depth_topic, t_depth, DepthMessage(frame->depth, camera.depth_factor, o.depth_encoding, t_depth, o.frame_id));
     ++n;
   }
+  if (late_out) *late_out = late;
   return n;
 }
 
@@ -231,9 +236,10 @@ int main(int argc, char** argv) {
     ros::NodeHandle nh;
     TopicSink topics(nh, o);
     if (o.wait_subscribers > 0) topics.WaitForSubscribers(o.wait_subscribers);
-    const std::size_t n = Play(o, topics, true);
+    std::size_t late = 0;
+    const std::size_t n = Play(o, topics, true, &late);
     ros::Duration(0.5).sleep();  // let the last messages go out
-    spdlog::info("{} frames published from {}", n, o.folder);
+    spdlog::info("{} frames published from {} ({} of them more than 10 ms late)", n, o.folder, late);
     return ros::ok() ? 0 : 130;
   } catch (const std::exception& e) {
     spdlog::error("sgslam_ros_play: {}", e.what());

@@ -20,6 +20,7 @@ Exits 77 (CTest's skip) with a message when ROS 1 or the node is missing.
 import argparse
 import json
 import os
+import re
 import shutil
 import signal
 import socket
@@ -73,19 +74,20 @@ def ate(sgslam, gt, est):
 class Listener:
     """A real subscriber to everything the node publishes."""
 
-    def __init__(self, ns):
+    def __init__(self, ns, images=True):
         self.poses = {}  # stamp (ns) -> line of a TUM trajectory
         self.latency_ms = []  # message stamp to the pose's arrival here (meaningful with --now)
         self.counts = {"map_points": 0, "cloud": 0, "objects": 0, "octomap_cells": 0, "image": 0}
         self.cloud_points = 0
         self.cells = 0
         self.object_labels = set()
-        rospy.Subscriber(f"{ns}/odometry", Odometry, self.on_odometry, queue_size=1000)
+        rospy.Subscriber(f"{ns}/odometry", Odometry, self.on_odometry, queue_size=1000, tcp_nodelay=True)
         rospy.Subscriber(f"{ns}/map_points", PointCloud2, self.count("map_points"), queue_size=10)
         rospy.Subscriber(f"{ns}/cloud", PointCloud2, self.on_cloud, queue_size=10)
         rospy.Subscriber(f"{ns}/objects", MarkerArray, self.on_objects, queue_size=10)
         rospy.Subscriber(f"{ns}/octomap_cells", Marker, self.on_cells, queue_size=10)
-        rospy.Subscriber(f"{ns}/image", Image, self.count("image"), queue_size=10)
+        if images:  # the node draws the annotated image only for a listener: not while measuring
+            rospy.Subscriber(f"{ns}/image", Image, self.count("image"), queue_size=10)
 
     def count(self, name):
         def cb(_msg):
@@ -169,6 +171,8 @@ def parse_args():
     ap.add_argument("--dataset", help="play this TUM-layout folder instead of a synthetic walkers sequence")
     ap.add_argument("--now", action="store_true", help="stamp messages when sent: measure latency, no ATE")
     ap.add_argument("--measure-only", action="store_true", help="report, do not fail on the targets")
+    ap.add_argument("--mode", help="the node's and the reference run's mode (default: the config's, sg)")
+    ap.add_argument("--queue-size", type=int, help="the node's ~queue_size")
     ap.add_argument("--json", help="write the figures to this file")
     ap.add_argument("--keep", help="keep the work folder here")
     return ap.parse_args()
@@ -180,6 +184,8 @@ def reference(args, sgslam, seq, ref, gt):
     cmd = [sgslam, "run", "--dataset", seq, "--out", ref]
     if args.dataset:
         cmd.append("--realtime")
+    if args.mode:
+        cmd += ["--mode", args.mode]
     run(cmd)
     return ate(sgslam, gt, os.path.join(ref, "trajectory_online.txt")), ate(sgslam, gt, os.path.join(ref, "trajectory.txt"))
 
@@ -194,7 +200,8 @@ def run_node(args, build, work, seq, out, env):
         procs.append(master)
         wait_for(lambda: rosgraph.Master("/e2e").is_online(), 20, "the ROS master")
         shutil.rmtree(out, ignore_errors=True)
-        cmd = [node, "__name:=sgslam", f"_out:={out}"]
+        cmd = [node, "__name:=sgslam", f"_out:={out}"] + ([f"_mode:={args.mode}"] if args.mode else []) \
+            + ([f"_queue_size:={args.queue_size}"] if args.queue_size else [])
         if os.path.isfile(os.path.join(seq, "sgslam.yaml")):
             cmd.append(f"_config:={os.path.join(seq, 'sgslam.yaml')}")
         node_proc = subprocess.Popen(cmd, env=env, stdout=open(os.path.join(work, "node.log"), "w"),
@@ -202,7 +209,7 @@ def run_node(args, build, work, seq, out, env):
         procs.append(node_proc)
         rss = RssSampler(node_proc.pid)
         rospy.init_node("e2e_check", anonymous=True, disable_signals=True)
-        listener = Listener("/sgslam")
+        listener = Listener("/sgslam", images=not args.measure_only)
         play_cmd = [play, seq, "--wait-subscribers", "30", "--depth-encoding", args.depth_encoding,
                     "--rate", str(args.rate)] + (["--now"] if args.now else [])
         player = subprocess.Popen(play_cmd, env=env, stdout=open(os.path.join(work, "play.log"), "w"),
@@ -255,7 +262,6 @@ def main():
     ref, out = os.path.join(work, "ref"), os.path.join(work, "out")
     if not args.dataset and not os.path.isfile(os.path.join(seq, "rgb.txt")):
         run([sgslam, "synth", "--out", seq, "--preset", "walkers", "--frames", str(args.frames), "--force"])
-    frames = sum(1 for l in open(os.path.join(seq, "rgb.txt")) if l.strip() and not l.startswith("#"))
     gt = os.path.join(seq, "groundtruth.txt")
     ref_online, ref_final = (None, None) if args.now else reference(args, sgslam, seq, ref, gt)
 
@@ -264,6 +270,8 @@ def main():
                ROS_HOME=os.path.join(work, "ros_home"))
     os.environ.update(env)
     listener, rss = run_node(args, build, work, seq, out, env)
+    played = re.search(r"(\d+) frames published", open(os.path.join(work, "play.log")).read())
+    frames = int(played.group(1)) if played else fail("sgslam_ros_play did not say how many frames it published")
     stats = check_outputs(out, len(listener.poses))
     results = report(args, listener, rss, stats, frames, sgslam, gt, work, out, ref_online, ref_final)
     if args.json:
@@ -301,7 +309,12 @@ def report(args, listener, rss, stats, frames, sgslam, gt, work, out, ref_online
             f.write("\n".join(listener.poses[k] for k in sorted(listener.poses)) + "\n")
         r["ate_published"], r["ate_final"] = ate(sgslam, gt, published), ate(sgslam, gt, os.path.join(out, "trajectory.txt"))
         r["ref_ate_online"], r["ref_ate_final"] = ref_online, ref_final
+        ref_stats = json.load(open(os.path.join(work, "ref", "stats.json")))
+        r["ref_dropped"] = ref_stats.get("live", {}).get("dropped")
+        r["ref_median_latency_ms"] = ref_stats.get("live", {}).get("median_latency_ms")
         what = "sgslam run --realtime" if args.dataset else "sgslam run"
+        if r["ref_dropped"] is not None:
+            print(f"{what}: dropped {r['ref_dropped']}, latency median {r['ref_median_latency_ms']:.1f} ms")
         print(f"ATE of the published poses {r['ate_published']:.4f} m ({what} online {ref_online:.4f} m); "
               f"final trajectory {r['ate_final']:.4f} m ({what} {ref_final:.4f} m)")
     if args.measure_only:
