@@ -18,33 +18,20 @@ import json
 import os
 import shutil
 import signal
-import socket
 import subprocess
-import sys
 import tempfile
 import time
 
-SKIP = 77
-
-
-def skip(why):
-    print(f"SKIP: {why}")
-    sys.exit(SKIP)
-
-
-def fail(why):
-    print(f"FAIL: {why}")
-    sys.exit(1)
-
+from ros_test_support import fail, require_node, start_master, stop, wait_for
 
 try:
     import cv2
     import numpy as np
-    import rosgraph
     import rospy
     from nav_msgs.msg import Odometry
     from sensor_msgs.msg import Image
 except ImportError as e:
+    from ros_test_support import skip
     skip(f"ROS 1's Python packages or python3-opencv are not installed ({e}): scripts/setup.sh --ros")
 
 
@@ -92,21 +79,6 @@ class Feeder:
             self.send(*self.images())
 
 
-def wait_for(predicate, seconds, what):
-    until = time.time() + seconds
-    while time.time() < until:
-        if predicate():
-            return
-        time.sleep(0.1)
-    fail(f"timed out after {seconds} s waiting for {what}")
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 def cases(feeder, poses, log_path):
     """Each bad case, then good frames whose poses must come; returns the log lines expected."""
     def expect_poses_after(what):
@@ -144,24 +116,16 @@ def main():
     args = ap.parse_args()
     build = os.path.abspath(args.build)
     sgslam, node = os.path.join(build, "sgslam"), os.path.join(build, "sgslam_ros")
-    if not os.path.isfile(node):
-        skip(f"{node} is not built (ROS 1 was not installed at configure time: scripts/setup.sh --ros)")
-    if not shutil.which("rosmaster"):
-        skip("rosmaster is not installed (scripts/setup.sh --ros)")
+    require_node(build)
     work = os.path.abspath(args.keep or tempfile.mkdtemp(prefix="sgslam-ros-bad-"))
     os.makedirs(work, exist_ok=True)
     seq, out, log_path = os.path.join(work, "seq"), os.path.join(work, "out"), os.path.join(work, "node.log")
     if not os.path.isfile(os.path.join(seq, "associations.txt")):
         subprocess.run([sgslam, "synth", "--out", seq, "--preset", "static", "--frames", "90", "--force"], check=True,
                        capture_output=True)
-    port = free_port()
-    os.environ.update(ROS_MASTER_URI=f"http://127.0.0.1:{port}", ROS_IP="127.0.0.1",
-                      ROS_HOME=os.path.join(work, "ros_home"))
     procs = []
     try:
-        procs.append(subprocess.Popen(["rosmaster", "--core", "-p", str(port)], stdout=subprocess.DEVNULL,
-                                      stderr=subprocess.DEVNULL))
-        wait_for(lambda: rosgraph.Master("/bad").is_online(), 20, "the ROS master")
+        procs.append(start_master(work))
         shutil.rmtree(out, ignore_errors=True)
         node_proc = subprocess.Popen([node, "__name:=sgslam", f"_out:={out}", "_mode:=none", "_camera_info_wait:=0.3",
                                       f"_config:={os.path.join(seq, 'sgslam.yaml')}"],
@@ -179,10 +143,7 @@ def main():
         node_proc.send_signal(signal.SIGINT)
         code = node_proc.wait(timeout=60)
     finally:
-        for p in reversed(procs):
-            if p.poll() is None:
-                p.terminate()
-                p.wait(timeout=10)
+        stop(procs)
         rospy.signal_shutdown("done")
     log = open(log_path).read()
     missing = [e for e in expected if e not in log]
