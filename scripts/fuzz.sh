@@ -32,7 +32,7 @@ command -v clang++-14 >/dev/null || { echo "fuzz.sh: clang++-14 not found (scrip
 
 out=build-fuzz
 cmake -S . -B "$out" -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSGSLAM_FUZZ=ON \
-  -DSGSLAM_BUILD_TESTS=OFF -DSGSLAM_BUILD_BENCH=OFF >/dev/null
+  -DSGSLAM_BUILD_TESTS=OFF -DSGSLAM_BUILD_BENCH=OFF -DSGSLAM_ROS=OFF >/dev/null
 cmake --build "$out" -j "${JOBS:-1}" --target "${targets[@]/%/_fuzz}"
 
 rows=()

@@ -54,7 +54,7 @@ while [ $# -gt 0 ]; do
                                               -DSGSLAM_TSAN=ON -DSGSLAM_BUILD_BENCH=OFF) ;;
     --fuzz)
       build_dir=build-fuzz
-      cmake_flags=(-DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSGSLAM_FUZZ=ON -DSGSLAM_VIEWER=OFF
+      cmake_flags=(-DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSGSLAM_FUZZ=ON -DSGSLAM_VIEWER=OFF -DSGSLAM_ROS=OFF
                    -DSGSLAM_BUILD_TESTS=OFF -DSGSLAM_BUILD_BENCH=OFF)
       PACKAGES+=(clang-14 libclang-rt-14-dev) ;;
     *) echo "setup.sh: unknown option '$arg' (use --no-build, --ros, --asan, --tsan, --fuzz or --target T)" >&2; exit 2 ;;
