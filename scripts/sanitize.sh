@@ -8,7 +8,8 @@
 #   `sgslam run` in parallel mode with the real detector and --save-map.
 # --tsan: ThreadSanitizer build of the program and the threaded end-to-end test in
 #   build-tsan/; that test's parallel run and the same end-to-end run, the viewer's
-#   server tests and a `run --viewer` watched by a headless chromium page.
+#   server tests and a `run --viewer` watched by a headless chromium page; with ROS 1
+#   installed, the ROS node on a synthetic sequence through a private master.
 # A report from either sanitizer fails the job (exit status 1).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -61,7 +62,11 @@ if [ $asan = 1 ]; then
 fi
 
 if [ $tsan = 1 ]; then
-  scripts/setup.sh --tsan --target sgslam --target test_system_slam_synthetic --target test_viewer_server
+  ros_targets=()
+  if command -v rosmaster >/dev/null && pkg-config --exists roscpp 2>/dev/null; then
+    ros_targets=(--target sgslam_ros --target sgslam_ros_play)
+  fi
+  scripts/setup.sh --tsan --target sgslam --target test_system_slam_synthetic --target test_viewer_server "${ros_targets[@]}"
   export TSAN_OPTIONS="suppressions=$PWD/tests/sanitizers/tsan.supp halt_on_error=1 second_deadlock_stack=1"
   build-tsan/tests/test_system_slam_synthetic --gtest_filter='*Parallel*'
   end_to_end build-tsan tsan
@@ -72,4 +77,15 @@ if [ $tsan = 1 ]; then
   node viewer/tests/browser_test.mjs --sgslam build-tsan/sgslam --work "$work/tsan-viewer" --parallel 1 || status=$?
   [ $status = 0 ] || [ $status = 77 ] || exit $status
   echo "sanitize: tsan viewer run clean"
+  # The ROS node's threads (its callbacks, the tracking thread, the system's) on a
+  # synthetic sequence through a private master; a report ends the node or the
+  # player (66) and fails the script. Slow under TSan, so only its outputs and
+  # exit are checked (--measure-only). Debian's roscpp is not instrumented: its own
+  # lock order and reference counts are suppressed (ros/tests/tsan_ros.supp).
+  if [ ${#ros_targets[@]} -gt 0 ]; then
+    cat tests/sanitizers/tsan.supp ros/tests/tsan_ros.supp > "$work/tsan_ros.supp"
+    TSAN_OPTIONS="suppressions=$work/tsan_ros.supp halt_on_error=1 second_deadlock_stack=1" \
+      /usr/bin/python3 ros/tests/ros_e2e.py --build build-tsan --frames 60 --rate 0.3 --now --measure-only
+    echo "sanitize: tsan ROS node run clean"
+  fi
 fi

@@ -88,7 +88,6 @@ SlamNode::SlamNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, NodeOptions
     static_tf_.sendTransform(ToTransform(WorldFromMap(), options_.world_frame, options_.map_frame, ros::Time(0)));
   }
   path_.header.frame_id = options_.map_frame;
-  worker_ = std::thread([this] { Work(); });
   if (options_.use_camera_info && !options_.info_topic.empty()) {
     info_sub_ = nh_.subscribe(options_.info_topic, 2, &SlamNode::OnCameraInfo, this);
   }
@@ -105,6 +104,7 @@ SlamNode::SlamNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, NodeOptions
                                                                    rgb_sub_, depth_sub_);
   sync_->setInterMessageLowerBound(ros::Duration(0.9 / config_.config.camera.fps));
   sync_->registerCallback(&SlamNode::OnImages, this);
+  worker_ = std::thread([this] { Work(); });  // last: a constructor that throws has no thread to join
   spdlog::info("sgslam_ros: mode {}, config {}; listening to {} and {}{}; outputs in {}", config_.config.dynamic.mode,
                config_.source, options_.rgb_topic, options_.depth_topic,
                info_sub_ ? " (camera from " + options_.info_topic + ")" : std::string(" (camera from the config)"),
@@ -163,6 +163,7 @@ bool SlamNode::ChooseCamera(Timestamp t) {
     }
     if (c) {
       camera = *c;
+      config_.source += " + the camera of " + options_.info_topic;
       ROS_INFO("sgslam_ros: camera from %s: %dx%d fx %.1f fy %.1f cx %.1f cy %.1f", options_.info_topic.c_str(),
                camera.width, camera.height, camera.fx, camera.fy, camera.cx, camera.cy);
     } else {
@@ -274,6 +275,7 @@ void SlamNode::AnswerSave() {
 
 void SlamNode::ProcessFrame(Pending& frame) {
   if (!runner_) {
+    WriteConfigUsed(config_.config, config_.source, out_);  // with the camera chosen at the first frame
     runner_ = std::make_unique<SlamRunner>(config_.config, options_.sequential, std::move(detector_), out_);
     ROS_INFO("sgslam_ros: system started, mode %s, detector: %s", config_.config.dynamic.mode.c_str(),
              runner_->DescribeDetector().c_str());
