@@ -8,12 +8,16 @@
 #include <string>
 
 #include <ros/ros.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include "node.h"
 #include "stop_signals.h"
 
 int main(int argc, char** argv) {
+  // Logs to stderr, as sgslam's (roscpp's own go to stdout and rosout).
+  spdlog::set_default_logger(spdlog::stderr_color_mt("sgslam"));
+  spdlog::set_pattern("[%l] %v");
   // Our own signal handling (stop_signals.h): a stop writes the outputs first.
   ros::init(argc, argv, "sgslam", ros::init_options::NoSigintHandler);
   using sgslam::app::StopSignals;

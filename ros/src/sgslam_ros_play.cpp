@@ -22,6 +22,7 @@
 #include <sensor_msgs/CameraInfo.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/image_encodings.h>
+#include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 
 #include "ros_messages.h"
@@ -201,6 +202,9 @@ std::size_t Play(const PlayOptions& o, Sink& sink, bool pace, std::size_t* late_
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Logs to stderr, as sgslam's (roscpp's own go to stdout and rosout).
+  spdlog::set_default_logger(spdlog::stderr_color_mt("sgslam"));
+  spdlog::set_pattern("[%l] %v");
   PlayOptions o;
   CLI::App app{"Publishes a TUM-layout RGB-D folder as a camera's ROS topics at its timestamps, or writes it to a bag"};
   app.add_option("folder", o.folder, "the sequence (rgb.txt, depth.txt, images)")->required()->check(CLI::ExistingDirectory);

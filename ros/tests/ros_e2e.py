@@ -146,6 +146,8 @@ def parse_args():
     ap.add_argument("--frames", type=int, default=150, help="synthetic frames (without --dataset)")
     ap.add_argument("--rate", type=float, default=1.0, help="times the camera's rate")
     ap.add_argument("--dataset", help="play this TUM-layout folder instead of a synthetic walkers sequence")
+    ap.add_argument("--via-bag", action="store_true",
+                    help="write the sequence to a bag with sgslam_ros_play --bag, and play that with rosbag play")
     ap.add_argument("--now", action="store_true", help="stamp messages when sent: measure latency, no ATE")
     ap.add_argument("--measure-only", action="store_true", help="report, do not fail on the targets")
     ap.add_argument("--mode", help="the node's and the reference run's mode (default: the config's, sg)")
@@ -186,6 +188,12 @@ def run_node(args, build, work, seq, out):
         listener = Listener("/sgslam", images=not args.measure_only)
         play_cmd = [play, seq, "--wait-subscribers", "30", "--depth-encoding", args.depth_encoding,
                     "--rate", str(args.rate)] + (["--now"] if args.now else [])
+        if args.via_bag:
+            bag = os.path.join(work, "seq.bag")
+            with open(os.path.join(work, "bag.log"), "w") as f:
+                r = run([play, seq, "--bag", bag, "--depth-encoding", args.depth_encoding])
+                f.write(r.stdout + r.stderr)
+            play_cmd = ["rosbag", "play", "--wait-for-subscribers", "-r", str(args.rate), bag]
         player = subprocess.Popen(play_cmd, stdout=open(os.path.join(work, "play.log"), "w"),
                                   stderr=subprocess.STDOUT)
         procs.append(player)
@@ -231,7 +239,9 @@ def main():
     ref_online, ref_final = (None, None) if args.now else reference(args, sgslam, seq, ref, gt)
 
     listener, rss = run_node(args, build, work, seq, out)
-    played = re.search(r"(\d+) frames published", open(os.path.join(work, "play.log")).read())
+    played = re.search(r"(\d+) frames (published|written)",
+                       open(os.path.join(work, "play.log")).read() + open(os.path.join(work, "bag.log")).read()
+                       if args.via_bag else open(os.path.join(work, "play.log")).read())
     frames = int(played.group(1)) if played else fail("sgslam_ros_play did not say how many frames it published")
     stats = check_outputs(out, len(listener.poses))
     results = report(args, listener, rss, stats, frames, sgslam, gt, work, out, ref_online, ref_final)
