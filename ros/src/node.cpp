@@ -186,7 +186,7 @@ void SlamNode::OnImages(const sensor_msgs::ImageConstPtr& rgb, const sensor_msgs
     ++rejected_input_;
     if (kind != last_input_error_) {
       ROS_ERROR("sgslam_ros: frame %.6f skipped: %s (%zu frames refused so far)", ToSeconds(t), error.c_str(),
-                rejected_input_);
+                rejected_input_.load());
       last_input_error_ = kind;
     }
   };
@@ -298,7 +298,12 @@ void SlamNode::PublishFrame(const FrameSnapshot& f) {
     pose.pose = odom.pose.pose;
     path_.poses.push_back(pose);
     path_.header.stamp = stamp;
-    if (path_pub_.getNumSubscribers() > 0) path_pub_.publish(path_);
+    // The whole path at most every map_period: it grows with the run.
+    const auto period = std::chrono::duration<double>(options_.map_period);
+    if (path_pub_.getNumSubscribers() > 0 && Clock::now() - last_path_ >= period) {
+      path_pub_.publish(path_);
+      last_path_ = Clock::now();
+    }
   }
   if (image_pub_.getNumSubscribers() > 0 && !f.bgr.empty()) image_pub_.publish(AnnotatedImage(f, options_.camera_frame));
 }
@@ -340,7 +345,10 @@ bool SlamNode::Finish(const std::string& ended) {
   live.latency_ms = latency_ms_;
   bool written = true;
   if (runner_) {
-    if (processed_ > 0) PublishMaps();
+    if (processed_ > 0) {
+      PublishMaps();
+      path_pub_.publish(path_);  // the whole path, for a late Rviz (latched)
+    }
     written = runner_->Finish(ended, failure_, live);
   } else {
     spdlog::warn("sgslam_ros: no frame was processed: no outputs but config_used.yaml and stats.json");

@@ -104,7 +104,7 @@ class SlamNode {
   std::optional<sensor_msgs::CameraInfo> info_;
   std::optional<Timestamp> first_image_t_, last_t_;
   std::size_t index_ = 0;
-  std::size_t rejected_input_ = 0;  // frames refused: bad encoding, size, stamp
+  std::atomic<std::size_t> rejected_input_{0};  // frames refused: bad encoding, size, stamp (read at the end)
   std::string last_input_error_;  // the kind of the last refusal, until a frame is taken
   DropOldestQueue<Pending> queue_;
 
@@ -113,7 +113,7 @@ class SlamNode {
   std::vector<double> latency_ms_;
   nav_msgs::Path path_;
   std::size_t published_keyframes_ = 0;
-  std::chrono::steady_clock::time_point last_maps_;
+  std::chrono::steady_clock::time_point last_maps_, last_path_;
   std::atomic<std::size_t> processed_{0};
   std::string failure_;  // the error that stopped tracking, if any
 
