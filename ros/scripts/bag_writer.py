@@ -2,8 +2,9 @@
 """Writes the messages sgslam_ros_play sends down its stdin to a ROS 1 bag.
 
 Each message is a line "topic datatype md5sum secs nsecs length", then length
-bytes of the serialized message. The bag is written to OUT.tmp and renamed to OUT
-when every message is in, so a failed run leaves no torn bag under OUT's name.
+bytes of the serialized message; the line "END" closes the stream. The bag is
+written to OUT.tmp and renamed to OUT only after END, so a player that stopped
+early leaves no bag under OUT's name, and no OUT.tmp either.
 """
 import os
 import sys
@@ -13,31 +14,41 @@ import rosbag
 import roslib.message
 
 
-def main():
-    if len(sys.argv) != 2:
-        sys.exit("usage: bag_writer.py OUT.bag < messages")
-    out = sys.argv[1]
-    tmp = out + ".tmp"
+def write(out, tmp, inp):
     types = {}
-    inp = sys.stdin.buffer
     count = 0
     with rosbag.Bag(tmp, "w") as bag:
         while True:
             line = inp.readline()
             if not line:
-                break
+                raise RuntimeError(f"the player stopped after {count} messages, before the end")
+            if line == b"END\n":
+                return count
             topic, datatype, md5sum, secs, nsecs, length = line.decode().split()
             data = inp.read(int(length))
             if len(data) != int(length):
-                sys.exit(f"bag_writer.py: message {count} on {topic} cut short; {out} not written")
+                raise RuntimeError(f"message {count} on {topic} cut short")
             if datatype not in types:
                 types[datatype] = roslib.message.get_message_class(datatype)
                 if types[datatype] is None:
-                    sys.exit(f"bag_writer.py: no Python message class for {datatype}")
-            pytype = types[datatype]
-            bag.write(topic, (datatype, data, md5sum, None, pytype), genpy.Time(int(secs), int(nsecs)), raw=True)
+                    raise RuntimeError(f"no Python message class for {datatype}")
+            bag.write(topic, (datatype, data, md5sum, None, types[datatype]), genpy.Time(int(secs), int(nsecs)),
+                      raw=True)
             count += 1
-    os.replace(tmp, out)
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit("usage: bag_writer.py OUT.bag < messages")
+    out = sys.argv[1]
+    tmp = out + ".tmp"
+    try:
+        write(out, tmp, sys.stdin.buffer)
+        os.replace(tmp, out)
+    except Exception as e:  # noqa: BLE001 (any failure: no bag, no temporary file, the reason)
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        sys.exit(f"bag_writer.py: {e}; {out} not written")
 
 
 if __name__ == "__main__":

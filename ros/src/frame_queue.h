@@ -37,7 +37,8 @@ class DropOldestQueue {
   // closed and empty (closed() tells which).
   std::optional<T> PopFor(std::chrono::milliseconds wait) {
     std::unique_lock lock(mutex_);
-    ready_.wait_for(lock, wait, [&] { return closed_ || !items_.empty(); });
+    ready_.wait_for(lock, wait, [&] { return closed_ || woken_ || !items_.empty(); });
+    woken_ = false;
     if (items_.empty()) return std::nullopt;
     T item = std::move(items_.front());
     items_.pop_front();
@@ -52,8 +53,14 @@ class DropOldestQueue {
     }
     ready_.notify_all();
   }
-  // Wakes a PopFor that waits (for work other than items).
-  void Wake() { ready_.notify_all(); }
+  // Ends the wait of a PopFor (for work other than items): it returns nullopt.
+  void Wake() {
+    {
+      const std::lock_guard lock(mutex_);
+      woken_ = true;
+    }
+    ready_.notify_all();
+  }
 
   bool closed() const {
     const std::lock_guard lock(mutex_);
@@ -75,6 +82,7 @@ class DropOldestQueue {
   std::deque<T> items_;
   std::size_t dropped_ = 0;
   bool closed_ = false;
+  bool woken_ = false;
 };
 
 }  // namespace sgslam::ros_bridge

@@ -90,6 +90,7 @@ SlamNode::SlamNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, NodeOptions
   path_.header.frame_id = options_.map_frame;
   if (options_.use_camera_info && !options_.info_topic.empty()) {
     info_sub_ = nh_.subscribe(options_.info_topic, 2, &SlamNode::OnCameraInfo, this);
+    use_info_ = true;
   }
   // TCP_NODELAY: with Nagle's algorithm the tail of each image waits for the ACK.
   const ros::TransportHints hints = ros::TransportHints().tcpNoDelay();
@@ -107,7 +108,7 @@ SlamNode::SlamNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, NodeOptions
   worker_ = std::thread([this] { Work(); });  // last: a constructor that throws has no thread to join
   spdlog::info("sgslam_ros: mode {}, config {}; listening to {} and {}{}; outputs in {}", config_.config.dynamic.mode,
                config_.source, options_.rgb_topic, options_.depth_topic,
-               info_sub_ ? " (camera from " + options_.info_topic + ")" : std::string(" (camera from the config)"),
+               use_info_ ? " (camera from " + options_.info_topic + ")" : std::string(" (camera from the config)"),
                out_.string());
 }
 
@@ -146,7 +147,10 @@ bool SlamNode::ChooseCamera(Timestamp t) {
     info = info_;
   }
   if (!first_image_t_) first_image_t_ = t;
-  if (info_sub_ && !info && t - *first_image_t_ < FromSeconds(options_.camera_info_wait)) return false;
+  if (use_info_ && !info && t - *first_image_t_ < FromSeconds(options_.camera_info_wait)) {
+    ++rejected_input_;  // waiting for camera_info: counted with the refused
+    return false;
+  }
   CameraConfig camera = config_.config.camera;
   if (info) {
     std::string error;
@@ -169,7 +173,7 @@ bool SlamNode::ChooseCamera(Timestamp t) {
     } else {
       ROS_ERROR("sgslam_ros: %s; using the config's camera (%s)", error.c_str(), config_.source.c_str());
     }
-  } else if (info_sub_) {
+  } else if (use_info_) {
     ROS_WARN("sgslam_ros: no camera_info on %s within %.1f s of the first images: using the config's camera (%s)",
              options_.info_topic.c_str(), options_.camera_info_wait, config_.source.c_str());
   }
@@ -178,9 +182,19 @@ bool SlamNode::ChooseCamera(Timestamp t) {
   return true;
 }
 
+// roscpp does not catch what a callback throws: nothing may leave it.
 void SlamNode::OnImages(const sensor_msgs::ImageConstPtr& rgb, const sensor_msgs::ImageConstPtr& depth) {
+  try {
+    TakeImages(*rgb, *depth);
+  } catch (const std::exception& e) {
+    ++rejected_input_;
+    ROS_ERROR("sgslam_ros: frame %.6f skipped: %s", rgb->header.stamp.toSec(), e.what());
+  }
+}
+
+void SlamNode::TakeImages(const sensor_msgs::Image& rgb, const sensor_msgs::Image& depth) {
   const Clock::time_point arrival = Clock::now();
-  const Timestamp t = FromRosTime(rgb->header.stamp);
+  const Timestamp t = FromRosTime(rgb.header.stamp);
   // A frame refused: logged when the kind of problem changes, not every frame.
   const auto refuse = [&](const char* kind, const std::string& error) {
     ++rejected_input_;
@@ -191,9 +205,9 @@ void SlamNode::OnImages(const sensor_msgs::ImageConstPtr& rgb, const sensor_msgs
     }
   };
   if (!ChooseCamera(t)) return;
-  Converted colour = ColourToBgr(*rgb);
+  Converted colour = ColourToBgr(rgb);
   if (!colour.error.empty()) return refuse("colour", colour.error);
-  Converted raw = DepthToRaw(*depth, camera_->depth_factor);
+  Converted raw = DepthToRaw(depth, camera_->depth_factor);
   if (!raw.error.empty()) return refuse("depth", raw.error);
   if (colour.image.size() != raw.image.size()) {
     return refuse("sizes", fmt::format("colour image {}x{} and depth image {}x{} differ in size", colour.image.cols,
@@ -221,9 +235,9 @@ bool SlamNode::OnSave(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& 
   std::future<std::string> done;
   {
     const std::lock_guard lock(save_mutex_);
-    if (save_request_) {
+    if (closing_ || save_request_) {
       res.success = false;
-      res.message = "a save is already under way";
+      res.message = closing_ ? "the node is stopping: it writes every output itself" : "a save is already under way";
       return true;
     }
     save_request_.emplace();
@@ -255,7 +269,13 @@ void SlamNode::Work() {
     } else if (!frame && queue_.closed()) {
       break;
     }
-    if (runner_) PublishMaps();
+    if (runner_) {
+      try {
+        PublishMaps(false);
+      } catch (const std::exception& e) {
+        ROS_ERROR_THROTTLE(10.0, "sgslam_ros: maps not published: %s", e.what());
+      }
+    }
   }
   AnswerSave();
 }
@@ -308,17 +328,20 @@ void SlamNode::PublishFrame(const FrameSnapshot& f) {
   if (image_pub_.getNumSubscribers() > 0 && !f.bgr.empty()) image_pub_.publish(AnnotatedImage(f, options_.camera_frame));
 }
 
-// The sparse map, the dense cloud, the objects and the OctoMap's cells: when a
-// keyframe was added, at most every map_period.
-void SlamNode::PublishMaps() {
-  const std::size_t keyframes = runner_->keyframes();
-  if (keyframes == published_keyframes_ ||
-      Clock::now() - last_maps_ < std::chrono::duration<double>(options_.map_period)) {
-    return;
-  }
-  published_keyframes_ = keyframes;
+// The sparse map, the dense cloud, the objects and the OctoMap's cells, at most
+// every map_period, when they changed: a new keyframe, or the semantic thread's
+// cloud or cells (it follows tracking by a few keyframes). force: now, as they are.
+void SlamNode::PublishMaps(bool force) {
+  if (!force && Clock::now() - last_maps_ < std::chrono::duration<double>(options_.map_period)) return;
   last_maps_ = Clock::now();
   const MapSnapshot map = runner_->SnapshotMap();
+  if (!force && map.keyframes.size() == published_keyframes_ && map.cloud.size() == published_pieces_ &&
+      map.cells.get() == published_cells_) {
+    return;
+  }
+  published_keyframes_ = map.keyframes.size();
+  published_pieces_ = map.cloud.size();
+  published_cells_ = map.cells.get();
   const ros::Time stamp = ros::Time::now();
   std::vector<Eigen::Vector3f> points;
   points.reserve(map.points.size());
@@ -333,11 +356,15 @@ void SlamNode::PublishMaps() {
 bool SlamNode::Finish(const std::string& ended) {
   if (finished_) return true;
   finished_ = true;
+  {
+    const std::lock_guard lock(save_mutex_);
+    closing_ = true;  // a save asked from now on is refused, not left waiting
+  }
+  save_srv_.shutdown();
   rgb_sub_.unsubscribe();
   depth_sub_.unsubscribe();
-  info_sub_.shutdown();
   queue_.Close();
-  if (worker_.joinable()) worker_.join();  // takes the frames already queued
+  if (worker_.joinable()) worker_.join();  // takes the frames already queued, answers a save under way
   LiveStats live;
   live.topics = {options_.rgb_topic, options_.depth_topic};
   live.dropped = queue_.dropped();
@@ -345,11 +372,18 @@ bool SlamNode::Finish(const std::string& ended) {
   live.latency_ms = latency_ms_;
   bool written = true;
   if (runner_) {
-    if (processed_ > 0) {
-      PublishMaps();
-      path_pub_.publish(path_);  // the whole path, for a late Rviz (latched)
+    try {
+      written = runner_->Finish(ended, failure_, live);
+    } catch (const std::exception& e) {
+      spdlog::error("sgslam_ros: the outputs not written: {}", e.what());
+      written = false;
     }
-    written = runner_->Finish(ended, failure_, live);
+    try {  // the maps after the last bundle adjustment, and the whole path, latched for a late Rviz
+      PublishMaps(true);
+      path_pub_.publish(path_);
+    } catch (const std::exception& e) {
+      spdlog::error("sgslam_ros: the final maps not published: {}", e.what());
+    }
   } else {
     spdlog::warn("sgslam_ros: no frame was processed: no outputs but config_used.yaml and stats.json");
     try {

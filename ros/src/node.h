@@ -37,7 +37,7 @@ struct NodeOptions {
   std::string depth_topic = "/camera/depth/image";
   std::string info_topic = "/camera/rgb/camera_info";
   std::string config;  // a YAML file or a shipped name, as `sgslam run --config`; empty: the TUM fr1 defaults
-  std::string mode;    // none, geometry, semantic, sg; empty: the config's
+  std::string mode;    // none, geometric, semantic, sg; empty: the config's
   std::string model;   // detector model folder; empty: the shipped one
   std::string out = "sgslam-out/ros";
   bool sequential = false;
@@ -74,6 +74,7 @@ class SlamNode {
   using Policy = message_filters::sync_policies::ApproximateTime<sensor_msgs::Image, sensor_msgs::Image>;
 
   void OnImages(const sensor_msgs::ImageConstPtr& rgb, const sensor_msgs::ImageConstPtr& depth);
+  void TakeImages(const sensor_msgs::Image& rgb, const sensor_msgs::Image& depth);
   void OnCameraInfo(const sensor_msgs::CameraInfoConstPtr& info);
   std::string CheckStamp(Timestamp t);
   bool ChooseCamera(Timestamp t);
@@ -81,7 +82,7 @@ class SlamNode {
   void Work();
   void ProcessFrame(Pending& frame);
   void PublishFrame(const FrameSnapshot& frame);
-  void PublishMaps();
+  void PublishMaps(bool force);
   void AnswerSave();
 
   NodeOptions options_;
@@ -93,6 +94,7 @@ class SlamNode {
   message_filters::Subscriber<sensor_msgs::Image> rgb_sub_, depth_sub_;
   std::unique_ptr<message_filters::Synchronizer<Policy>> sync_;
   ros::Subscriber info_sub_;
+  bool use_info_ = false;  // camera_info subscribed (set before any callback)
   ros::Publisher odom_pub_, path_pub_, points_pub_, cloud_pub_, objects_pub_, cells_pub_, image_pub_;
   ros::ServiceServer save_srv_;
   tf2_ros::TransformBroadcaster tf_;
@@ -112,13 +114,16 @@ class SlamNode {
   std::unique_ptr<SlamRunner> runner_;
   std::vector<double> latency_ms_;
   nav_msgs::Path path_;
-  std::size_t published_keyframes_ = 0;
+  // What the maps last published held: they go out again only when this changes.
+  std::size_t published_keyframes_ = 0, published_pieces_ = 0;
+  const void* published_cells_ = nullptr;
   std::chrono::steady_clock::time_point last_maps_, last_path_;
   std::atomic<std::size_t> processed_{0};
   std::string failure_;  // the error that stopped tracking, if any
 
   std::mutex save_mutex_;
   std::optional<std::promise<std::string>> save_request_;
+  bool closing_ = false;  // under save_mutex_: no save is taken any more
   std::atomic<bool> stop_{false};
   std::thread worker_;
   bool finished_ = false;

@@ -22,6 +22,9 @@ Converted Wrap(const sensor_msgs::Image& msg, int type, const char* what) {
   } else if (msg.step < row || msg.data.size() < static_cast<std::size_t>(msg.step) * msg.height) {
     c.error = fmt::format("{} image {}x{} {}: step {} and {} bytes of data do not hold its pixels", what, msg.width,
                           msg.height, msg.encoding, msg.step, msg.data.size());
+  } else if (msg.step % CV_ELEM_SIZE1(type) != 0) {
+    c.error = fmt::format("{} image {}: step {} is not a whole number of {}-byte values", what, msg.encoding, msg.step,
+                          CV_ELEM_SIZE1(type));
   } else if (msg.is_bigendian && CV_ELEM_SIZE1(type) > 1) {
     c.error = fmt::format("{} image {}: big-endian data is not supported", what, msg.encoding);
   } else {
@@ -84,7 +87,7 @@ Converted DepthToRaw(const sensor_msgs::Image& msg, double depth_factor) {
   const bool metres = msg.encoding == enc::TYPE_32FC1;
   if (!metres && msg.encoding != enc::TYPE_16UC1 && msg.encoding != enc::MONO16) {
     return {cv::Mat(), "depth image encoding '" + msg.encoding +
-                           "' is not 32FC1 (metres) or 16UC1 (millimetres): no depth scale can be assumed"};
+                           "' is not 32FC1 (metres) or 16UC1/mono16 (millimetres): no depth scale can be assumed"};
   }
   Converted c = Wrap(msg, metres ? CV_32FC1 : CV_16UC1, "depth");
   if (!c.error.empty()) return c;

@@ -1,6 +1,6 @@
 // Between ROS 1 messages and sgslam's types: the camera's images and calibration in,
 // the pose, maps, objects and annotated image out. No node here: these functions
-// are tested without a ROS master (ros/tests/test_ros_messages.cpp).
+// are tested without a ROS master (ros/tests/ros_messages_test.cpp).
 #pragma once
 
 #include <cstdint>
@@ -35,8 +35,8 @@ struct Converted {
 Converted ColourToBgr(const sensor_msgs::Image& msg);
 
 // The depth image in RgbdImages' raw units (16-bit, depth_factor per metre): 32FC1
-// in metres (the TUM bags; NaN, infinite and <= 0 mean no depth) and 16UC1 in
-// millimetres (RealSense and Astra drivers; 0 means no depth). A depth past what 16
+// in metres (the TUM bags; NaN, infinite and <= 0 mean no depth) and 16UC1 or
+// mono16 in millimetres (RealSense and Astra drivers; 0 means no depth). A depth past what 16
 // bits hold at depth_factor (13.1 m at 5000) becomes 0, no depth.
 Converted DepthToRaw(const sensor_msgs::Image& msg, double depth_factor);
 

@@ -6,6 +6,8 @@
 // camera_info (from the folder's configuration, as `sgslam run` reads it) with the
 // colour image.
 #include <chrono>
+#include <csignal>
+#include <sys/wait.h>
 #include <cstdio>
 #include <cstring>
 #include <limits>
@@ -96,6 +98,13 @@ class Sink {
   virtual void Write(const std::string& topic, const ros::Time& t, const sensor_msgs::CameraInfo& m) = 0;
 };
 
+// text as one shell word.
+std::string Quoted(const std::string& text) {
+  std::string q = "'";
+  for (char c : text) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return q + "'";
+}
+
 // A bag, written by Debian's Python rosbag (its C++ rosbag needs the ROS 2
 // class_loader Debian ships): the messages go serialized down a pipe to
 // bag_writer.py, which writes them to a temporary file and renames it at the end.
@@ -107,7 +116,8 @@ class BagSink : public Sink {
     if (!data || !fs::is_regular_file(writer)) {
       throw sgslam::InputError("the bag writer (share/sgslam/ros/bag_writer.py) was not found beside the executable");
     }
-    const std::string command = "/usr/bin/python3 '" + writer.string() + "' '" + bag.string() + "'";
+    const std::string command = "/usr/bin/python3 " + Quoted(writer.string()) + " " + Quoted(bag.string());
+    std::signal(SIGPIPE, SIG_IGN);  // a writer that died: a write error, reported, not a silent end
     pipe_ = popen(command.c_str(), "w");
     if (!pipe_) throw sgslam::InputError("cannot start " + command);
   }
@@ -118,10 +128,15 @@ class BagSink : public Sink {
   void Write(const std::string& topic, const ros::Time& t, const sensor_msgs::CameraInfo& m) override {
     Send(topic, t, m);
   }
-  // Waits for the writer; throws when it failed (it said why on stderr).
+  // Ends the stream and waits for the writer, which renames the bag into place only
+  // now; throws when it failed (it said why on stderr). Without Close (an error
+  // before the end), the writer leaves no bag.
   void Close() {
+    const bool ended = std::fputs("END\n", pipe_) >= 0;
     const int status = pclose(std::exchange(pipe_, nullptr));
-    if (status != 0) throw sgslam::InputError("the bag writer failed (status " + std::to_string(status) + ")");
+    if (!ended || !WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+      throw sgslam::InputError("the bag writer failed (see its message above)");
+    }
   }
 
  private:

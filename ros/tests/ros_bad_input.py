@@ -128,6 +128,7 @@ def main():
         procs.append(start_master(work))
         shutil.rmtree(out, ignore_errors=True)
         node_proc = subprocess.Popen([node, "__name:=sgslam", f"_out:={out}", "_mode:=none", "_camera_info_wait:=0.3",
+                                      "_queue_size:=100",  # every good frame is tracked, however loaded the machine
                                       f"_config:={os.path.join(seq, 'sgslam.yaml')}"],
                                      stdout=open(log_path, "w"), stderr=subprocess.STDOUT)
         procs.append(node_proc)

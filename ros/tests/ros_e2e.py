@@ -63,7 +63,8 @@ class Listener:
         self.cloud_points = 0
         self.cells = 0
         self.object_labels = set()
-        rospy.Subscriber(f"{ns}/odometry", Odometry, self.on_odometry, queue_size=1000, tcp_nodelay=True)
+        self.odometry = rospy.Subscriber(f"{ns}/odometry", Odometry, self.on_odometry, queue_size=1000,
+                                         tcp_nodelay=True)
         if images:
             rospy.Subscriber(f"{ns}/map_points", PointCloud2, self.count("map_points"), queue_size=10)
             rospy.Subscriber(f"{ns}/cloud", PointCloud2, self.on_cloud, queue_size=10)
@@ -186,6 +187,7 @@ def run_node(args, build, work, seq, out):
         rss = RssSampler(node_proc.pid)
         rospy.init_node("e2e_check", anonymous=True, disable_signals=True)
         listener = Listener("/sgslam", images=not args.measure_only)
+        wait_for(lambda: listener.odometry.get_num_connections() > 0, 30, "the subscription to the odometry")
         play_cmd = [play, seq, "--wait-subscribers", "30", "--depth-encoding", args.depth_encoding,
                     "--rate", str(args.rate)] + (["--now"] if args.now else [])
         if args.via_bag:
@@ -207,7 +209,7 @@ def run_node(args, build, work, seq, out):
             last = len(listener.poses)
             time.sleep(1.0)
         wait_for(lambda: all(listener.counts[k] > 0 for k in ("map_points", "cloud", "objects", "octomap_cells")),
-                 10, f"the maps and markers (so far {listener.counts})")
+                 30, f"the maps and markers (so far {listener.counts})")
         rospy.wait_for_service("/sgslam/save", timeout=10)
         answer = rospy.ServiceProxy("/sgslam/save", Trigger)()
         if not answer.success or not os.path.isfile(os.path.join(out, "trajectory.txt")):

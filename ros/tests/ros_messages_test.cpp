@@ -66,6 +66,8 @@ TEST(RosDepth, OtherEncodingsAndShortBuffersAreRefusedWithTheReason) {
   EXPECT_NE(DepthToRaw(m, 5000).error.find("big-endian"), std::string::npos);
   m.width = 0;
   EXPECT_NE(DepthToRaw(m, 5000).error.find("empty"), std::string::npos);
+  m = Message<float>({1, 1, 1, 1}, 2, 2, "32FC1", 1, 2);  // rows 10 bytes apart: no whole float
+  EXPECT_NE(DepthToRaw(m, 5000).error.find("not a whole number"), std::string::npos);
 }
 
 TEST(RosColour, EncodingsBecomeBgr) {
