@@ -206,4 +206,11 @@ nlohmann::json LoopJson(const std::vector<FrameReport>& reports, const SlamSyste
           {"global_ba", GlobalBaJson(system)}};
 }
 
+nlohmann::json LiveJson(std::size_t dropped, const std::vector<double>& latency_ms) {
+  return {{"dropped", dropped},
+          {"median_latency_ms", Median(latency_ms)},
+          {"p95_latency_ms", Percentile(latency_ms, 0.95)},
+          {"max_latency_ms", Percentile(latency_ms, 1.0)}};
+}
+
 }  // namespace sgslam::app

@@ -64,5 +64,8 @@ nlohmann::json LocalMappingJson(const SlamSystem& system);
 // Place recognition: relocalisations (lost -> tracked), loops checked, rejected, closed.
 nlohmann::json LoopJson(const std::vector<FrameReport>& reports, const SlamSystem& system);
 double MedianFrameMs(const std::vector<FrameReport>& reports);
+// stats.json's "live" section: frames dropped and the latency from a frame's arrival
+// to its pose (median, p95, max), for `run --realtime` and the ROS node.
+nlohmann::json LiveJson(std::size_t dropped, const std::vector<double>& latency_ms);
 
 }  // namespace sgslam::app

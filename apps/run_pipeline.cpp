@@ -279,11 +279,8 @@ nlohmann::json RunStats(const RunOptions& o, const Config& config, const TumData
   }
   AddAte(dataset, trajectory, s, stats);
   if (o.realtime) {
-    stats["live"] = {{"every_frame", o.every_frame},
-                     {"dropped", loop.dropped},
-                     {"median_latency_ms", Median(loop.latency_ms)},
-                     {"p95_latency_ms", Percentile(loop.latency_ms, 0.95)},
-                     {"max_latency_ms", Percentile(loop.latency_ms, 1.0)}};
+    stats["live"] = LiveJson(loop.dropped, loop.latency_ms);
+    stats["live"]["every_frame"] = o.every_frame;
   }
   if (const auto h = loop.people.median_height()) {
     stats["dynamic"]["people_measured"] = loop.people.measured();

@@ -152,13 +152,9 @@ nlohmann::json SlamRunner::Impl::Stats(const std::string& ended, const std::stri
                           {"dynamic", app::DynamicJson(reports, *system)},
                           {"local_mapping", app::LocalMappingJson(*system)},
                           {"loop", app::LoopJson(reports, *system)},
-                          {"live",
-                           {{"dropped", live.dropped},
-                            {"refused", live.refused},
-                            {"median_latency_ms", Median(live.latency_ms)},
-                            {"p95_latency_ms", Percentile(live.latency_ms, 0.95)},
-                            {"max_latency_ms", Percentile(live.latency_ms, 1.0)}}},
+                          {"live", app::LiveJson(live.dropped, live.latency_ms)},
                           {"ended", ended}};
+  stats["live"]["refused"] = live.refused;
   if (!maps.semantic.is_null()) stats["semantic"] = maps.semantic;
   if (!failure.empty()) stats["error"] = failure;
   return stats;
