@@ -298,6 +298,23 @@ visualization_msgs::Marker CellMarker(const std::vector<Eigen::Vector4f>& cells,
   return m;
 }
 
+sensor_msgs::Image ToImage(const cv::Mat& image, const std::string& encoding, const ros::Time& stamp,
+                           const std::string& frame_id) {
+  sensor_msgs::Image m;
+  m.header.stamp = stamp;
+  m.header.frame_id = frame_id;
+  m.height = static_cast<std::uint32_t>(image.rows);
+  m.width = static_cast<std::uint32_t>(image.cols);
+  m.encoding = encoding;
+  m.is_bigendian = false;
+  m.step = static_cast<std::uint32_t>(image.cols * image.elemSize());
+  m.data.resize(static_cast<std::size_t>(m.step) * m.height);
+  for (int y = 0; y < image.rows; ++y) {
+    std::memcpy(&m.data[static_cast<std::size_t>(y) * m.step], image.ptr(y), m.step);
+  }
+  return m;
+}
+
 sensor_msgs::Image AnnotatedImage(const FrameSnapshot& frame, const std::string& camera_frame) {
   cv::Mat img = frame.bgr.clone();
   const cv::Scalar colours[] = {{0, 200, 0}, {0, 0, 255}, {0, 220, 255}};  // kept, rejected, unjudged (BGR)
@@ -312,17 +329,7 @@ sensor_msgs::Image AnnotatedImage(const FrameSnapshot& frame, const std::string&
     cv::putText(img, text, cv::Point(static_cast<int>(d.box.x) + 2, std::max(12, static_cast<int>(d.box.y) - 4)),
                 cv::FONT_HERSHEY_SIMPLEX, 0.45, c, 1, cv::LINE_AA);
   }
-  sensor_msgs::Image m;
-  m.header.stamp = ToRosTime(frame.t);
-  m.header.frame_id = camera_frame;
-  m.height = static_cast<std::uint32_t>(img.rows);
-  m.width = static_cast<std::uint32_t>(img.cols);
-  m.encoding = sensor_msgs::image_encodings::BGR8;
-  m.is_bigendian = false;
-  m.step = static_cast<std::uint32_t>(img.cols * 3);
-  m.data.resize(static_cast<std::size_t>(m.step) * m.height);
-  for (int y = 0; y < img.rows; ++y) std::memcpy(&m.data[static_cast<std::size_t>(y) * m.step], img.ptr(y), m.step);
-  return m;
+  return ToImage(img, sensor_msgs::image_encodings::BGR8, ToRosTime(frame.t), camera_frame);
 }
 
 }  // namespace sgslam::ros_bridge

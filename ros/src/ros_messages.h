@@ -71,6 +71,10 @@ visualization_msgs::MarkerArray ObjectMarkers(const std::vector<ObjectEstimate>&
 visualization_msgs::Marker CellMarker(const std::vector<Eigen::Vector4f>& cells, const std::string& frame,
                                       const ros::Time& stamp);
 
+// image (rows copied, no padding) as a message; encoding as sensor_msgs' names it.
+sensor_msgs::Image ToImage(const cv::Mat& image, const std::string& encoding, const ros::Time& stamp,
+                           const std::string& frame_id);
+
 // The frame with kept keypoints green, rejected red, unjudged yellow, and the
 // detection boxes with class and score (carried boxes orange), as bgr8.
 sensor_msgs::Image AnnotatedImage(const FrameSnapshot& frame, const std::string& camera_frame);

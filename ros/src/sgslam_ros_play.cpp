@@ -9,7 +9,6 @@
 #include <csignal>
 #include <sys/wait.h>
 #include <cstdio>
-#include <cstring>
 #include <limits>
 #include <vector>
 #include <filesystem>
@@ -37,6 +36,7 @@
 namespace {
 
 namespace fs = std::filesystem;
+using sgslam::ros_bridge::ToImage;
 using sgslam::ros_bridge::ToRosTime;
 
 struct PlayOptions {
@@ -48,21 +48,6 @@ struct PlayOptions {
   bool now = false, no_camera_info = false;
 };
 
-sensor_msgs::Image ImageMessage(const cv::Mat& m, const std::string& encoding, const ros::Time& stamp,
-                                const std::string& frame_id) {
-  sensor_msgs::Image msg;
-  msg.header.stamp = stamp;
-  msg.header.frame_id = frame_id;
-  msg.height = static_cast<std::uint32_t>(m.rows);
-  msg.width = static_cast<std::uint32_t>(m.cols);
-  msg.encoding = encoding;
-  msg.is_bigendian = false;
-  msg.step = static_cast<std::uint32_t>(m.cols * m.elemSize());
-  msg.data.resize(static_cast<std::size_t>(msg.step) * m.rows);
-  for (int y = 0; y < m.rows; ++y) std::memcpy(&msg.data[static_cast<std::size_t>(y) * msg.step], m.ptr(y), msg.step);
-  return msg;
-}
-
 // Raw depth (camera.depth_factor per metre) in the chosen encoding.
 sensor_msgs::Image DepthMessage(const cv::Mat& raw, double depth_factor, const std::string& encoding,
                                 const ros::Time& stamp, const std::string& frame_id) {
@@ -73,7 +58,7 @@ sensor_msgs::Image DepthMessage(const cv::Mat& raw, double depth_factor, const s
   } else {
     raw.convertTo(out, CV_16UC1, 1000.0 / depth_factor);  // millimetres, rounded
   }
-  return ImageMessage(out, encoding, stamp, frame_id);
+  return ToImage(out, encoding, stamp, frame_id);
 }
 
 sensor_msgs::CameraInfo InfoMessage(const sgslam::CameraConfig& c, const ros::Time& stamp, const std::string& frame_id) {
@@ -205,7 +190,7 @@ std::size_t Play(const PlayOptions& o, Sink& sink, bool pace, std::size_t* late_
     const ros::Time now = ros::Time::now();
     const ros::Time t_rgb = o.now ? now : ToRosTime(rec.t_rgb);
     const ros::Time t_depth = o.now ? now + ros::Duration(sgslam::ToSeconds(rec.t_depth - rec.t_rgb)) : ToRosTime(rec.t_depth);
-    sink.Write(o.rgb_topic, t_rgb, ImageMessage(frame->bgr, sensor_msgs::image_encodings::BGR8, t_rgb, o.frame_id));
+    sink.Write(o.rgb_topic, t_rgb, ToImage(frame->bgr, sensor_msgs::image_encodings::BGR8, t_rgb, o.frame_id));
     if (!o.no_camera_info) sink.Write(o.info_topic, t_rgb, InfoMessage(camera, t_rgb, o.frame_id));
     sink.Write(o.depth_topic, t_depth, DepthMessage(frame->depth, camera.depth_factor, o.depth_encoding, t_depth, o.frame_id));
     ++n;
