@@ -9,6 +9,7 @@
 
 #include "commands.h"
 #include "run_pipeline.h"
+#include "sgslam/io/output_plan.h"
 #include "sgslam/synth/writer.h"
 
 namespace sgslam::app {
@@ -22,6 +23,9 @@ struct DemoOptions {
 
 int RunDemo(const DemoOptions& o) {
   const std::filesystem::path out = o.out;
+  OutputPlan plan;
+  plan.WritesFolder(out, "--out");
+  plan.Check();
   synth::SynthOptions so;
   so.preset = "walkers";
   so.frames = o.frames;

@@ -11,6 +11,7 @@
 #include "sgslam/common/time.h"
 #include "sgslam/eval/evaluate.h"
 #include "sgslam/eval/plot.h"
+#include "sgslam/io/output_plan.h"
 #include "sgslam/io/text_file.h"
 
 namespace sgslam::app {
@@ -24,7 +25,23 @@ struct EvalArgs {
   bool json = false;
 };
 
+constexpr char kPngSignature[] = "\x89PNG\r\n\x1a\n";
+constexpr char kErrorsHeader[] = "# timestamp ate_error_m\n";
+
+// --plot and --errors neither over the trajectories read nor over each other, and
+// over an existing file only when it is a plot (a PNG) or an errors file.
+void CheckOutputs(const EvalArgs& a) {
+  OutputPlan plan;
+  plan.Reads(a.gt, "the trajectory given with --gt");
+  plan.Reads(a.est, "the trajectory given with --est");
+  plan.Reads(a.align_with, "the trajectory given with --align-with");
+  if (!a.plot.empty()) plan.Writes(a.plot, "--plot", kPngSignature);
+  if (!a.errors.empty()) plan.Writes(a.errors, "--errors", kErrorsHeader);
+  plan.Check();
+}
+
 int RunEval(const EvalArgs& a) {
+  CheckOutputs(a);
   spdlog::debug("eval: gt={} est={} max_diff={} s delta={} s plot={}", a.gt, a.est, a.max_diff_s, a.delta_s,
                 a.plot.empty() ? "-" : a.plot);
   eval::EvalOptions options;
@@ -40,7 +57,7 @@ int RunEval(const EvalArgs& a) {
   if (!a.errors.empty()) {
     // One line per associated pose: estimate time and its aligned position error,
     // to see where along a sequence the error grows.
-    std::string text = "# timestamp ate_error_m\n";
+    std::string text = kErrorsHeader;
     for (std::size_t k = 0; k < report.ate.pairs.size(); ++k) {
       text += FormatTimestamp(report.est[report.ate.pairs[k].second].t) + " " +
               std::to_string(report.ate.errors[k]) + "\n";

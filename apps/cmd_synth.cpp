@@ -6,6 +6,7 @@
 
 #include "commands.h"
 #include "stop_signals.h"
+#include "sgslam/io/output_plan.h"
 #include "sgslam/synth/presets.h"
 #include "sgslam/synth/writer.h"
 
@@ -34,6 +35,9 @@ Action AddSynthCommand(CLI::App& root) {
       ->check(CLI::IsMember({"none", "kinect"}));
   cmd->add_flag("--force", o->force, "Write into a non-empty folder, replacing only the files synth writes");
   return [o, out] {
+    OutputPlan plan;
+    plan.WritesFolder(*out, "--out");
+    plan.Check();
     // Stopped part-way, the frames rendered so far are kept and listed (a usable,
     // shorter sequence) instead of a folder without its lists.
     const StopSignals signals;

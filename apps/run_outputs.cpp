@@ -8,9 +8,12 @@
 #include "map_plot.h"
 #include "semantic_output.h"
 #include "sgslam/common/stats.h"
+#include "sgslam/common/error.h"
+#include "sgslam/detection/darknet_model.h"
 #include "sgslam/detection/detections_file.h"
 #include "sgslam/io/ply.h"
 #include "sgslam/io/text_file.h"
+#include "sgslam/loop/vocabulary_file.h"
 
 namespace sgslam::app {
 
@@ -29,6 +32,35 @@ std::string FailedOutputs::Joined() const {
   std::string out;
   for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
   return out;
+}
+
+const std::vector<std::string>& RunOutputNames() {
+  static const std::vector<std::string> kNames = {
+      "trajectory.txt", "trajectory_online.txt", "keyframes.txt", "frames.csv",   "detections.txt",   "map_points.ply",
+      "cloud.ply",      "octomap.bt",            "objects.json",  "map_top.png", "config_used.yaml", "stats.json"};
+  return kNames;
+}
+
+void PlanRunOutputs(OutputPlan& plan, const Config& config, const std::filesystem::path& out, const std::string& role,
+                    const std::filesystem::path& detections_dir) {
+  plan.WritesFolder(out, role);
+  for (const std::string& name : RunOutputNames()) plan.Writes(out / name, "the run's " + name);
+  const DetectorConfig& d = config.detector;
+  if (d.backend == "file") {
+    plan.Reads(d.detections_file.empty() ? detections_dir / "detections.txt" : std::filesystem::path(d.detections_file),
+               "the detections file of detector.backend file");
+  } else if (d.backend == "dnn") {
+    try {
+      plan.ReadsFolder(ResolveModelDir(d.model_dir), "the detector's model folder");
+    } catch (const Error&) {  // no model folder: loading the detector says so, before any frame
+    }
+  }
+  if (config.loop.enabled) {
+    try {
+      plan.Reads(ResolveVocabulary(config.loop.vocabulary), "the vocabulary of loop.vocabulary");
+    } catch (const Error&) {  // likewise, reported when it is loaded
+    }
+  }
 }
 
 RunMaps WriteSystemOutputs(const std::filesystem::path& out, SlamSystem& system, std::vector<FrameReport>& reports,

@@ -12,6 +12,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "sgslam/config/config.h"
+#include "sgslam/io/output_plan.h"
 #include "sgslam/io/trajectory.h"
 #include "sgslam/system/slam_system.h"
 
@@ -56,6 +58,15 @@ struct RunMaps {
 // map. `sgslam run` and the ROS node write the same files.
 RunMaps WriteSystemOutputs(const std::filesystem::path& out, SlamSystem& system, std::vector<FrameReport>& reports,
                            bool has_detector, bool print_objects, FailedOutputs& failed);
+
+// The files a run writes in its output folder, by name: the contract of the folder.
+const std::vector<std::string>& RunOutputNames();
+// Into plan: the output folder (`role` names it: "--out") and its files, and the
+// files and folders the configured system reads (the detector's model, detections
+// file and the vocabulary); `detections_dir` is where detector.backend file looks
+// for detections.txt. `sgslam run` and the ROS node check their paths with it.
+void PlanRunOutputs(OutputPlan& plan, const Config& config, const std::filesystem::path& out, const std::string& role,
+                    const std::filesystem::path& detections_dir);
 
 // stats.json sections.
 nlohmann::json MedianMsJson(const std::vector<FrameReport>& reports, double median_frame_ms);

@@ -7,6 +7,7 @@
 #include <exception>
 #include <csignal>
 #include <nlohmann/json.hpp>
+#include <set>
 #include <sstream>
 #include <utility>
 
@@ -22,6 +23,7 @@
 #include "sgslam/eval/ate.h"
 #include "sgslam/eval/evaluate.h"
 #include "sgslam/io/frame_stream.h"
+#include "sgslam/io/output_plan.h"
 #include "sgslam/io/ply.h"
 #include "sgslam/io/text_file.h"
 #include "sgslam/io/trajectory.h"
@@ -71,23 +73,28 @@ RunConfig Configure(const RunOptions& o) {
   return rc;
 }
 
-// Fails before any frame is processed when the map could not be saved to path.
-void CheckWritable(const fs::path& path) {
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) throw InputError("--save-map " + path.string() + ": is a folder");
-  const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
-  fs::create_directories(dir, ec);
-  if (!fs::is_directory(dir, ec)) throw InputError("--save-map " + path.string() + ": cannot create folder " + dir.string());
-}
-
-fs::path MakeOutputFolder(const RunOptions& o, const TumDataset& dataset) {
+// Every path the run writes checked against those it reads (io/output_plan.h),
+// before anything is written; then the output folder made.
+fs::path MakeOutputFolder(const RunOptions& o, const RunConfig& rc, const TumDataset& dataset) {
   const fs::path out = o.out.empty() ? fs::path("sgslam-out") / dataset.name() : fs::path(o.out);
+  OutputPlan plan;
+  plan.ReadsFolder(dataset.dir(), "the dataset folder");
+  std::set<fs::path> image_folders;
+  for (const FrameRecord& f : dataset.frames()) image_folders.insert({f.rgb.parent_path(), f.depth.parent_path()});
+  for (const fs::path& folder : image_folders) plan.ReadsFolder(folder, "a folder of the dataset's images");
+  if (!o.config.empty()) plan.Reads(ResolveConfigPath(o.config), "the configuration file given with --config");
+  PlanRunOutputs(plan, rc.config, out, "--out", dataset.dir());
   std::error_code ec;
+  const bool map_in_place = !o.load_map.empty() && !o.save_map.empty() && fs::equivalent(o.load_map, o.save_map, ec);
+  if (!map_in_place) plan.Reads(o.load_map, "the map given with --load-map");  // saved over on purpose, else kept
+  if (!o.save_map.empty()) plan.Writes(o.save_map, "--save-map", std::string(mapfile::kFileMagic));
+  plan.Check();
   fs::create_directories(out, ec);
   if (ec || !fs::is_directory(out)) throw InputError("cannot create output folder " + out.string());
-  if (fs::equivalent(out, dataset.dir(), ec)) {
-    throw InputError("--out " + out.string() + " is the dataset folder: the run's outputs (detections.txt among "
-                     "them) would replace the sequence's own files; choose another folder");
+  if (!o.save_map.empty()) {
+    const fs::path dir = fs::path(o.save_map).has_parent_path() ? fs::path(o.save_map).parent_path() : fs::path(".");
+    fs::create_directories(dir, ec);
+    if (!fs::is_directory(dir, ec)) throw InputError("--save-map " + o.save_map + ": cannot create folder " + dir.string());
   }
   return out;
 }
@@ -323,9 +330,8 @@ RunMaps WriteOutputs(const RunOptions& o, const Config& config, const TumDataset
   return maps;
 }
 
-// --save-map checked and --load-map loaded, before the first frame.
+// --load-map loaded, before the first frame.
 void StartFromMap(const RunOptions& o, SlamSystem& system) {
-  if (!o.save_map.empty()) CheckWritable(o.save_map);
   if (o.load_map.empty()) return;
   const Stopwatch load;
   system.LoadMap(mapfile::ReadMapFile(o.load_map), o.load_map);
@@ -352,7 +358,7 @@ RunSummary RunSequence(const RunOptions& o) {
   const Config& config = rc.config;
   TumDataset dataset(o.dataset, config.dataset);
   RunSummary s;
-  s.out = MakeOutputFolder(o, dataset);
+  s.out = MakeOutputFolder(o, rc, dataset);
   spdlog::info("dataset {}: {} RGB-D frames ({}), config: {}", dataset.dir().string(), dataset.size(),
                dataset.associations_from_file() ? "associations.txt" : "associated by timestamp", rc.source);
   WriteConfigUsed(rc, s.out);

@@ -72,6 +72,7 @@ SlamNode::SlamNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, NodeOptions
   config_ = LoadNodeConfig(options_.config, options_.mode, options_.model);
   detector_ = LoadNodeDetector(config_);
   out_ = options_.out;
+  CheckNodeOutputs(config_, out_);
   std::error_code ec;
   fs::create_directories(out_, ec);
   if (!fs::is_directory(out_, ec)) throw InputError("cannot create output folder " + out_.string() + " (~out)");

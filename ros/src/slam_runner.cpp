@@ -10,6 +10,7 @@
 #include "sgslam/common/stats.h"
 #include "sgslam/config/yaml_io.h"
 #include "sgslam/detection/detector.h"
+#include "sgslam/io/output_plan.h"
 #include "sgslam/io/ply.h"
 #include "sgslam/io/text_file.h"
 #include "sgslam/io/trajectory.h"
@@ -30,6 +31,7 @@ NodeConfig LoadNodeConfig(const std::string& config, const std::string& mode, co
     LoadConfigFile(file, c.config);
     c.source = file.string() + " (over the TUM fr1 camera)";
     c.folder = file.parent_path();
+    c.file = file;
   }
   if (!mode.empty()) c.config.dynamic.mode = mode;
   if (!model.empty()) c.config.detector.model_dir = model;
@@ -41,6 +43,13 @@ NodeConfig LoadNodeConfig(const std::string& config, const std::string& mode, co
 std::unique_ptr<Detector> LoadNodeDetector(const NodeConfig& c) {
   const std::string& mode = c.config.dynamic.mode;
   return mode == "semantic" || mode == "sg" ? MakeDetector(c.config.detector, c.folder) : nullptr;
+}
+
+void CheckNodeOutputs(const NodeConfig& c, const fs::path& out) {
+  OutputPlan plan;
+  plan.Reads(c.file, "the configuration file given with ~config");
+  app::PlanRunOutputs(plan, c.config, out, "~out", c.folder);
+  plan.Check();
 }
 
 void WriteStatsWithoutFrames(const fs::path& out, const std::string& ended, const std::string& failure,

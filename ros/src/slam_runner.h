@@ -22,6 +22,7 @@ struct NodeConfig {
   Config config;
   std::string source;           // where the values came from, for logs
   std::filesystem::path folder;  // the config file's folder: where detector.backend file finds detections.txt
+  std::filesystem::path file;    // the config file read, if any
 };
 
 // The configuration: `config` (a file or a shipped name, as `sgslam run --config`)
@@ -31,6 +32,11 @@ NodeConfig LoadNodeConfig(const std::string& config, const std::string& mode, co
 // The detector of modes semantic and sg (else null), loaded before any frame so
 // that a missing model is reported at start.
 std::unique_ptr<Detector> LoadNodeDetector(const NodeConfig& config);
+
+// The output folder (~out) and its files checked against the files the node reads
+// (the config, the model, the vocabulary), as `sgslam run` checks its own
+// (io/output_plan.h); throws InputError naming both paths.
+void CheckNodeOutputs(const NodeConfig& config, const std::filesystem::path& out);
 
 // config_used.yaml in out, as `sgslam run` writes it.
 void WriteConfigUsed(const Config& config, const std::string& source, const std::filesystem::path& out);
