@@ -3,11 +3,14 @@
 
 Each message is a line "topic datatype md5sum secs nsecs length", then length
 bytes of the serialized message; the line "END" closes the stream. The bag is
-written to OUT.tmp and renamed to OUT only after END, so a player that stopped
-early leaves no bag under OUT's name, and no OUT.tmp either.
+written to a new file OUT.tmp.<pid>.<random> (created exclusively: a link planted
+under a fixed name is never written through; sgslam removes it if this process is
+killed) and renamed to OUT only after END, so a player that stopped early leaves no
+bag under OUT's name, and no temporary file either.
 """
 import os
 import sys
+import tempfile
 
 import genpy
 import rosbag
@@ -41,7 +44,11 @@ def main():
     if len(sys.argv) != 2:
         sys.exit("usage: bag_writer.py OUT.bag < messages")
     out = sys.argv[1]
-    tmp = out + ".tmp"
+    fd, tmp = tempfile.mkstemp(prefix=os.path.basename(out) + f".tmp.{os.getpid()}.", dir=os.path.dirname(out) or ".")
+    os.close(fd)
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o666 & ~umask)  # as an ordinary new file (mkstemp makes it 0600)
     try:
         write(out, tmp, sys.stdin.buffer)
         os.replace(tmp, out)

@@ -30,6 +30,8 @@
 #include "sgslam/common/data_dir.h"
 #include "sgslam/common/error.h"
 #include "sgslam/io/frame_stream.h"
+#include "sgslam/io/output_plan.h"
+#include "sgslam/io/text_file.h"
 #include "sgslam/io/tum_dataset.h"
 #include "sgslam/system/run_config.h"
 
@@ -73,6 +75,17 @@ sensor_msgs::CameraInfo InfoMessage(const sgslam::CameraConfig& c, const ros::Ti
   info.R = {1, 0, 0, 0, 1, 0, 0, 0, 1};
   info.P = {c.fx, 0, c.cx, 0, 0, c.fy, c.cy, 0, 0, 0, 1, 0};
   return info;
+}
+
+// The bag neither among the sequence's files nor over a file of another kind
+// (io/output_plan.h); the temporary files of a killed writer cleared away.
+void CheckBag(const PlayOptions& o) {
+  sgslam::OutputPlan plan;
+  plan.ReadsFolder(o.folder, "the sequence folder");
+  if (!o.config.empty()) plan.Reads(sgslam::ResolveConfigPath(o.config), "the configuration file given with --config");
+  plan.Writes(o.bag, "--bag", "#ROSBAG V2.0");
+  plan.Check();
+  sgslam::RemoveStaleTempFiles(o.bag);
 }
 
 // One frame's messages, to the topics or the bag.
@@ -229,6 +242,7 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, cli_argc, cli_argv.data());
   try {
     if (!o.bag.empty()) {
+      CheckBag(o);
       ros::Time::init();
       BagSink bag(o.bag);
       const std::size_t n = Play(o, bag, false);

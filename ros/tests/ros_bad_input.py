@@ -109,6 +109,23 @@ def cases(feeder, poses, log_path):
             "images resumed after a gap of 3.", "frames are usable again"]
 
 
+def refused_outputs(node, work, seq):
+    """~out where the node must not write: refused at start, naming both paths (#47)."""
+    config = os.path.join(work, "used", "config_used.yaml")
+    os.makedirs(os.path.dirname(config), exist_ok=True)
+    shutil.copy(os.path.join(seq, "sgslam.yaml"), config)
+    for params, expected in ((["_out:=/"], "~out /: / is a system folder"),
+                             ([f"_out:={os.path.dirname(config)}", f"_config:={config}"],
+                              "it is read, and writing would destroy it")):
+        p = subprocess.run([node, "__name:=sgslam_refused", "_mode:=none", *params], capture_output=True, text=True,
+                           timeout=60)
+        if p.returncode != 1 or expected not in p.stderr:
+            fail(f"sgslam_ros {' '.join(params)}: exit {p.returncode}, expected 1 and '{expected}':\n{p.stderr}")
+        print(f"refused: {' '.join(params)}: {p.stderr.strip().splitlines()[-1][:160]}")
+    if open(config).read() != open(os.path.join(seq, "sgslam.yaml")).read():
+        fail(f"{config} was rewritten")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--build", required=True)
@@ -126,6 +143,7 @@ def main():
     procs = []
     try:
         procs.append(start_master(work))
+        refused_outputs(node, work, seq)
         shutil.rmtree(out, ignore_errors=True)
         node_proc = subprocess.Popen([node, "__name:=sgslam", f"_out:={out}", "_mode:=none", "_camera_info_wait:=0.3",
                                       "_queue_size:=100",  # every good frame is tracked, however loaded the machine
