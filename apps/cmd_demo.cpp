@@ -4,11 +4,14 @@
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 
 #include "commands.h"
 #include "run_pipeline.h"
+#include "sgslam/common/error.h"
+#include "sgslam/common/regular_file.h"
 #include "sgslam/io/output_plan.h"
 #include "sgslam/synth/writer.h"
 
@@ -21,11 +24,30 @@ struct DemoOptions {
   int frames = 150;
 };
 
-int RunDemo(const DemoOptions& o) {
-  const std::filesystem::path out = o.out;
+// The demo regenerates its own sequence on every run, replacing the files synth
+// writes; a folder of that name that synth did not write (a user's own dataset) is
+// refused instead.
+void CheckDemoFolder(const std::filesystem::path& out) {
   OutputPlan plan;
   plan.WritesFolder(out, "--out");
   plan.Check();
+  const std::filesystem::path sequence = out / "sequence";
+  std::error_code ec;
+  if (!std::filesystem::exists(sequence, ec) || std::filesystem::is_empty(sequence, ec)) return;
+  bool written_by_synth = false;
+  if (WhyNotRegularFile(sequence / "rgb.txt").empty()) {
+    const RegularFile list(sequence / "rgb.txt", "the demo's image list");
+    written_by_synth = list.Read(0, std::min<std::uint64_t>(list.size(), 200)).find("sgslam synth") != std::string::npos;
+  }
+  if (!written_by_synth) {
+    throw InputError("--out " + out.string() + ": " + sequence.string() + " holds a sequence that `sgslam synth` did "
+                     "not write; the demo would replace its lists: choose another folder");
+  }
+}
+
+int RunDemo(const DemoOptions& o) {
+  const std::filesystem::path out = o.out;
+  CheckDemoFolder(out);
   synth::SynthOptions so;
   so.preset = "walkers";
   so.frames = o.frames;

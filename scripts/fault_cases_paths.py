@@ -263,3 +263,18 @@ def _(t):
     notes = keep(t, "notes.txt")
     t.sgslam("vocab", "train", "--images", os.path.join(ds, "rgb.txt"), "--out", notes)
     unchanged(t, notes, "notes.txt")
+
+
+@case("demo-over-user-sequence", "demo --out a folder whose sequence/ is a user's dataset (not written by synth)", 1,
+      r"holds a sequence that `sgslam synth` did not write")
+def _(t):
+    ds = t.dataset(os.path.join("demo", "sequence"))
+    rgb = os.path.join(ds, "rgb.txt")
+    with open(rgb, encoding="utf-8") as f:
+        text = f.read().replace("sgslam synth", "a camera")
+    with open(rgb, "w", encoding="utf-8") as f:
+        f.write(text)
+    t.sgslam("demo", "--out", t.path("demo"))
+    with open(rgb, encoding="utf-8") as f:
+        if f.read() != text:
+            t.problem("outside", "the user's rgb.txt was replaced")
