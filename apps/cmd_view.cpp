@@ -5,11 +5,13 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <spdlog/spdlog.h>
 
 #include "commands.h"
 #include "run_pipeline.h"
+#include "run_viewer.h"
 #include "sgslam/common/error.h"
 #include "stop_signals.h"
 
@@ -25,6 +27,7 @@ namespace {
 struct ViewOptions {
   std::string folder, address = "127.0.0.1";
   int port = kDefaultViewerPort;
+  std::vector<std::string> origins;
 };
 
 int View(const ViewOptions& o) {
@@ -34,6 +37,7 @@ int View(const ViewOptions& o) {
   viewer::ServerOptions options;
   options.address = o.address;
   options.port = static_cast<std::uint16_t>(o.port);
+  options.allowed_origins = o.origins;
   viewer::Server server(options, source);
   spdlog::info("view: {}: open {} in a web browser (Ctrl-C to stop)", o.folder, server.url());
   StopSignals::WaitUntil(std::chrono::steady_clock::time_point::max());
@@ -56,6 +60,12 @@ Action AddViewCommand(CLI::App& root) {
   cmd->add_option("--address", o->address,
                   "Address to serve on (default 127.0.0.1: this machine only; another lets anyone who can reach it "
                   "see the run)");
+  cmd->add_option("--origin", o->origins,
+                  "Also let pages at ORIGIN (http://HOST[:PORT] or https://HOST[:PORT]; repeatable) open the view, "
+                  "and answer to its host: for a name or a proxy in front of the viewer (default: only this "
+                  "viewer's own page at a loopback or, with --address, IP address)")
+      ->type_name("ORIGIN")
+      ->check(CLI::Validator(ViewerOriginError, "", "origin"));
   return [o] { return View(*o); };
 }
 

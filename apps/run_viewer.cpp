@@ -7,6 +7,7 @@
 
 #ifdef SGSLAM_WITH_VIEWER
 #include "live_source.h"
+#include "origin.h"
 #include "server.h"
 #endif
 
@@ -22,12 +23,13 @@ struct RunViewer::Impl {
 };
 
 RunViewer::RunViewer(SlamSystem& system, const std::string& address, int port, nlohmann::json info,
-                     Trajectory truth) {
+                     Trajectory truth, std::vector<std::string> origins) {
   system.EnableSnapshots();
   impl_ = std::make_unique<Impl>(system, std::move(info), std::move(truth));
   viewer::ServerOptions options;
   options.address = address;
   options.port = static_cast<std::uint16_t>(port);
+  options.allowed_origins = std::move(origins);
   impl_->server = std::make_unique<viewer::Server>(options, impl_->source);
   impl_->source.set_server(impl_->server.get());
   spdlog::info("viewer: open {} in a web browser", impl_->server->url());
@@ -47,16 +49,23 @@ void RunViewer::WaitWhilePaused() {
   }
 }
 
+std::string ViewerOriginError(const std::string& text) {
+  return viewer::ParseOrigin(text) ? "" : "'" + text + "' is not an origin (http://HOST[:PORT] or https://HOST[:PORT])";
+}
+
 #else
 
 struct RunViewer::Impl {};
 
-RunViewer::RunViewer(SlamSystem&, const std::string&, int, nlohmann::json, Trajectory) {
+RunViewer::RunViewer(SlamSystem&, const std::string&, int, nlohmann::json, Trajectory, std::vector<std::string>) {
   throw InputError("--viewer: this sgslam was built without the viewer (CMake option SGSLAM_VIEWER=OFF)");
 }
 RunViewer::~RunViewer() = default;
 void RunViewer::AddFrame(const FrameReport&) {}
 void RunViewer::WaitWhilePaused() {}
+// Every text passes: without the viewer, run --viewer and view are refused, with the
+// reason, when they start.
+std::string ViewerOriginError(const std::string&) { return ""; }
 
 #endif
 

@@ -4,6 +4,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -17,7 +18,10 @@ class RunViewer {
   // Starts serving (snapshots enabled on the system, which must outlive this) and
   // prints the address. Throws sgslam::Error when it cannot.
   // truth: the dataset's ground truth (sorted, unique stamps), or empty.
-  RunViewer(SlamSystem& system, const std::string& address, int port, nlohmann::json info, Trajectory truth);
+  // origins: pages elsewhere allowed to connect (--viewer-origin; server.h's
+  // ServerOptions::allowed_origins).
+  RunViewer(SlamSystem& system, const std::string& address, int port, nlohmann::json info, Trajectory truth,
+            std::vector<std::string> origins = {});
   ~RunViewer();
   RunViewer(const RunViewer&) = delete;
   RunViewer& operator=(const RunViewer&) = delete;
@@ -32,5 +36,9 @@ class RunViewer {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+// For the command line's check of --viewer-origin and view --origin: why text is
+// not an origin (http://HOST[:PORT] or https://HOST[:PORT]), or empty when it is.
+std::string ViewerOriginError(const std::string& text);
 
 }  // namespace sgslam::app

@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include <opencv2/imgcodecs.hpp>
+#include <spdlog/spdlog.h>
 
 #include "message.h"
 #include "sgslam/semantic/object_json.h"
@@ -127,6 +128,9 @@ std::shared_ptr<const std::string> LiveSource::EncodeMap(const MapRequest& reque
     ++cells_version_;
   }
   m.header()["cells_version"] = cells_version_;
+  // Also here, not only with the frames: a paused run sends no new frame, and the
+  // pages learn of a pause or resume from another page by the map.
+  m.header()["paused"] = pause_.paused();
   if (cells_ && request.cells_have != cells_version_) {
     std::vector<float> cells;
     cells.reserve(4 * cells_->size());
@@ -163,17 +167,27 @@ std::shared_ptr<const std::string> LiveSource::EncodeMap(const MapRequest& reque
   return m.Finish();
 }
 
-bool LiveSource::Control(const std::string& what) {
+nlohmann::json LiveSource::Info() const {
+  nlohmann::json info = info_;
+  info["paused"] = pause_.paused();
+  return info;
+}
+
+bool LiveSource::Control(const std::string& what, std::uint64_t page) {
   if (what == "pause") {
-    pause_.Pause();
+    pause_.Pause(page);
   } else if (what == "resume") {
     pause_.Resume();
   } else if (what == "step") {
-    pause_.Step();
+    pause_.Step(page);
   } else {
     return false;
   }
   return true;
+}
+
+void LiveSource::PageClosed(std::uint64_t page) {
+  if (pause_.Release(page)) spdlog::info("viewer: the last page that held the pause has closed; the run goes on");
 }
 
 }  // namespace sgslam::viewer

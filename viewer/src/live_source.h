@@ -34,8 +34,9 @@ class LiveSource : public Source {
   std::uint64_t FrameVersion() const override;
   std::shared_ptr<const std::string> EncodeFrame() override;
   std::shared_ptr<const std::string> EncodeMap(const MapRequest& request) override;
-  nlohmann::json Info() const override { return info_; }
-  bool Control(const std::string& what) override;
+  nlohmann::json Info() const override;  // info, and whether the run is paused
+  bool Control(const std::string& what, std::uint64_t page) override;  // pause.h's rules
+  void PageClosed(std::uint64_t page) override;
 
   // Points a keyframe's cloud piece keeps at most (an even subsample): the page
   // draws 700 keyframes in 490k points.

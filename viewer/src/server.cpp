@@ -1,6 +1,7 @@
 #include "server.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <deque>
 #include <optional>
@@ -15,6 +16,7 @@
 #include <boost/beast/websocket.hpp>
 #include <spdlog/spdlog.h>
 
+#include "origin.h"
 #include "sgslam/common/data_dir.h"
 #include "sgslam/common/error.h"
 #include "sgslam/common/thread_name.h"
@@ -70,6 +72,14 @@ std::optional<std::filesystem::path> AssetPath(const std::filesystem::path& root
   return canonical;
 }
 
+// A header's value for the log: printable, and short (a hostile page chooses it).
+std::string Printable(std::string_view s) {
+  constexpr std::size_t kMax = 100;
+  std::string out;
+  for (char c : s.substr(0, kMax)) out += std::isprint(static_cast<unsigned char>(c)) ? c : '?';
+  return s.size() > kMax ? out + "..." : out;
+}
+
 std::optional<std::string> ReadWhole(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
   if (!in) return std::nullopt;
@@ -89,12 +99,20 @@ struct Server::Impl {
   void Accept();
   void StartHttp(tcp::socket socket);
   void Deliver();  // on the server's thread: the new frame to the pages waiting
+  // Logs a refusal the first time one of its kind comes: a hostile page may try
+  // again and again, and the log is the user's.
+  void LogRefusal(AccessRules::Verdict verdict, std::string_view host, std::string_view origin);
 
   ServerOptions options;
   Source& source;
   net::io_context ioc{1};
   tcp::acceptor acceptor{ioc};
-  std::set<std::shared_ptr<WsSession>> sessions;  // the server's thread only
+  std::optional<AccessRules> rules;  // set once the port is known
+  std::string hosts_text;            // the hosts they answer to, for the log
+  // The server's thread only:
+  std::set<std::shared_ptr<WsSession>> sessions;
+  std::uint64_t pages_opened = 0;  // the next connection's number (Source::Control's page)
+  std::array<bool, 4> refusal_logged{};  // by AccessRules::Verdict
   std::atomic<std::size_t> clients{0};
   std::uint16_t port = 0;
   std::thread thread;
@@ -104,7 +122,8 @@ struct Server::Impl {
 // keeps at most kMaxQueued waiting.
 class WsSession : public std::enable_shared_from_this<WsSession> {
  public:
-  WsSession(tcp::socket socket, Server::Impl& server) : ws_(std::move(socket)), server_(server) {}
+  WsSession(tcp::socket socket, Server::Impl& server)
+      : ws_(std::move(socket)), server_(server), page_(++server.pages_opened) {}
 
   void Start(http::request<http::string_body> request) {
     ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
@@ -131,6 +150,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     beast::error_code ignored;
     beast::get_lowest_layer(ws_).socket().shutdown(tcp::socket::shutdown_both, ignored);
     beast::get_lowest_layer(ws_).socket().close(ignored);
+    server_.source.PageClosed(page_);  // before the count: clients() then tells it is done
     if (server_.sessions.erase(shared_from_this()) > 0) --server_.clients;
   }
 
@@ -156,7 +176,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     Source& source = server_.source;
     if (m.contains("control")) {
       if (!m["control"].is_string()) return false;
-      source.Control(m["control"].get<std::string>());
+      source.Control(m["control"].get<std::string>(), page_);
       return true;
     }
     if (!m.contains("get") || !m["get"].is_string()) return false;
@@ -209,6 +229,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
 
   websocket::stream<beast::tcp_stream> ws_;
   Server::Impl& server_;
+  const std::uint64_t page_;
   beast::flat_buffer in_;
   std::deque<std::shared_ptr<const std::string>> queue_;
   bool writing_ = false, wants_frame_ = false, closed_ = false;
@@ -232,8 +253,19 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
 
  private:
   void Handle(http::request<http::string_body> req) {
+    // The files are checked for their Host too, though they are no secret: a page
+    // at a name the server does not answer to could not open the WebSocket anyway,
+    // and the user who typed that name is better told at once, with the reason.
+    const std::string_view host = req[http::field::host];
+    if (const auto v = server_.rules->CheckHost(host); v != AccessRules::Verdict::kAllowed) {
+      return Refuse(req, v, "");
+    }
     if (websocket::is_upgrade(req)) {
       if (req.target() != "/ws") return Close();
+      const auto origin = req.find(http::field::origin);
+      const auto v = server_.rules->CheckUpgrade(
+          host, origin == req.end() ? std::nullopt : std::optional<std::string_view>(origin->value()));
+      if (v != AccessRules::Verdict::kAllowed) return Refuse(req, v, origin == req.end() ? "" : origin->value());
       stream_.expires_never();
       auto ws = std::make_shared<WsSession>(stream_.release_socket(), server_);
       server_.sessions.insert(ws);
@@ -269,6 +301,21 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
     });
   }
 
+  // 403 with a short reason, then the connection closes.
+  void Refuse(const http::request<http::string_body>& req, AccessRules::Verdict verdict, std::string_view origin) {
+    server_.LogRefusal(verdict, req[http::field::host], origin);
+    auto res = std::make_shared<http::response<http::string_body>>(http::status::forbidden, req.version());
+    res->set(http::field::server, "sgslam viewer");
+    res->set(http::field::content_type, "text/plain; charset=utf-8");
+    res->keep_alive(false);
+    res->body() = verdict == AccessRules::Verdict::kUnknownHost ? "forbidden: not a host this viewer answers to\n"
+                  : verdict == AccessRules::Verdict::kNoOrigin  ? "forbidden: a WebSocket without an Origin\n"
+                                                                : "forbidden: not this viewer's page\n";
+    res->prepare_payload();
+    http::async_write(stream_, *res,
+                      [self = shared_from_this(), res](beast::error_code, std::size_t) { self->Close(); });
+  }
+
   void Close() {
     beast::error_code ignored;
     stream_.socket().shutdown(tcp::socket::shutdown_both, ignored);
@@ -287,6 +334,29 @@ void Server::Impl::Accept() {
     if (!ec) std::make_shared<HttpSession>(std::move(socket), *this)->Read();
     Accept();
   });
+}
+
+void Server::Impl::LogRefusal(AccessRules::Verdict verdict, std::string_view host, std::string_view origin) {
+  bool& logged = refusal_logged[static_cast<std::size_t>(verdict)];
+  if (logged) return;
+  logged = true;
+  constexpr const char* kOpen = "run --viewer-origin and view --origin allow another";
+  constexpr const char* kOnce = "further refusals of this kind are not logged";
+  switch (verdict) {
+    case AccessRules::Verdict::kUnknownHost:
+      spdlog::warn("viewer: refused a request for host '{}': the viewer answers to {} ({}); {}", Printable(host),
+                   hosts_text, kOpen, kOnce);
+      break;
+    case AccessRules::Verdict::kNoOrigin:
+      spdlog::warn("viewer: refused a WebSocket without an Origin header (not a web page's); {}", kOnce);
+      break;
+    case AccessRules::Verdict::kForeignOrigin:
+      spdlog::warn("viewer: refused a WebSocket from a page at '{}', not this viewer's own page ({}); {}",
+                   Printable(origin), kOpen, kOnce);
+      break;
+    case AccessRules::Verdict::kAllowed:
+      break;
+  }
 }
 
 void Server::Impl::Deliver() {
@@ -323,6 +393,11 @@ Server::Server(ServerOptions options, Source& source) : impl_(std::make_unique<I
   if (!ec) m.acceptor.listen(net::socket_base::max_listen_connections, ec);
   if (ec) throw InputError("viewer: cannot listen on " + where + ": " + ec.message());
   m.port = m.acceptor.local_endpoint().port();
+  m.rules.emplace(address.is_loopback(), m.port, m.options.allowed_origins);
+  m.hosts_text = std::string(address.is_loopback() ? "loopback hosts (127.0.0.1, localhost, [::1])"
+                                                   : "IP addresses and loopback hosts") +
+                 " with port " + std::to_string(m.port);
+  for (const std::string& o : m.options.allowed_origins) m.hosts_text += ", " + o + "'s";
   m.Accept();
   m.thread = std::thread([&m] {
     NameThisThread("sg-viewer");

@@ -7,13 +7,16 @@
 // it, the oldest dropped first): it cannot slow the run down nor grow memory.
 // Security: only the files of `assets` are served (no path outside it, no listing);
 // a request or WebSocket message over its size limit, or one that is not the JSON
-// the page sends, closes that connection and nothing else.
+// the page sends, closes that connection and nothing else. The server answers only
+// to the hosts of origin.h's rules, and the WebSocket opens only for its own page
+// (or an allowed origin's): other requests get 403, never reaching the Source.
 #pragma once
 
 #include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -37,14 +40,22 @@ class Source {
   virtual std::shared_ptr<const std::string> EncodeMap(const MapRequest& request) = 0;
   // What the page's title and panel say of the run ("live", dataset, mode, ...).
   virtual nlohmann::json Info() const = 0;
-  // A control from the page ("pause", "resume", "step"); false: not for this source.
-  virtual bool Control(const std::string& /*what*/) { return false; }
+  // A control from a page ("pause", "resume", "step"). page: its connection's
+  // number, given by the server, never reused while it runs. false: not for this
+  // source.
+  virtual bool Control(const std::string& /*what*/, std::uint64_t /*page*/) { return false; }
+  // That page's connection has closed: what it held (a pause) ends with it.
+  virtual void PageClosed(std::uint64_t /*page*/) {}
 };
 
 struct ServerOptions {
   std::string address = "127.0.0.1";  // or "localhost"; another than loopback is served with a warning
   std::uint16_t port = 0;        // 0: any free port
   std::filesystem::path assets;  // the page's files (index.html, ...); empty: share/sgslam/viewer
+  // Origins ("http[s]://host[:port]") of pages elsewhere that may open the
+  // WebSocket too, and whose hosts the server answers to: for a name or a proxy in
+  // front of it (origin.h).
+  std::vector<std::string> allowed_origins;
 };
 
 class Server {
@@ -52,7 +63,8 @@ class Server {
   static constexpr std::size_t kMaxQueued = 4;  // messages waiting for one page
 
   // Listens at once. Throws sgslam::Error naming the address when it cannot (port
-  // taken, address not this machine's) or when assets has no index.html.
+  // taken, address not this machine's), the allowed origin that is not one, or
+  // assets when it has no index.html.
   Server(ServerOptions options, Source& source);
   ~Server();  // closes every connection and joins the thread
   Server(const Server&) = delete;

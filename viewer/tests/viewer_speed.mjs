@@ -28,14 +28,21 @@ function stuckClient(url) {
   const { hostname, port } = new URL(url);
   const socket = net.connect(Number(port), hostname);
   socket.pause();  // never read: the server's writes pile up in the socket buffers
-  socket.write(`GET /ws HTTP/1.1\r\nHost: ${hostname}\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n` +
-               'Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n');
+  socket.write(upgradeRequest(hostname, port));
   const timer = setInterval(() => {
     socket.write(wsFrame('{"get":"map","pieces_after":-1}'));
     socket.write(wsFrame('{"get":"frame","have":0}'));
   }, 100);
   socket.on('error', () => clearInterval(timer));
   return () => { clearInterval(timer); socket.destroy(); };
+}
+
+// The upgrade to /ws as the viewer's own page asks for it (its Host and Origin: the
+// server refuses other pages', viewer/src/origin.h).
+function upgradeRequest(hostname, port) {
+  return `GET /ws HTTP/1.1\r\nHost: ${hostname}:${port}\r\nOrigin: http://${hostname}:${port}\r\n` +
+         'Upgrade: websocket\r\nConnection: Upgrade\r\n' +
+         'Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n';
 }
 
 // A masked WebSocket text frame (client to server), payload under 126 bytes.
@@ -52,8 +59,7 @@ function pullerClient(url) {
   const socket = net.connect(Number(port), hostname);
   let buffer = Buffer.alloc(0), upgraded = false, stopped = false, parts = [];
   const ask = (text, ms) => setTimeout(() => { if (!stopped) socket.write(wsFrame(text)); }, ms);
-  socket.write(`GET /ws HTTP/1.1\r\nHost: ${hostname}\r\nUpgrade: websocket\r\nConnection: Upgrade\r\n` +
-               'Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==\r\nSec-WebSocket-Version: 13\r\n\r\n');
+  socket.write(upgradeRequest(hostname, port));
   socket.on('data', (chunk) => {
     buffer = Buffer.concat([buffer, chunk]);
     if (!upgraded) {

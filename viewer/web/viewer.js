@@ -13,7 +13,7 @@ const LABEL_COLOURS = ['#3ddc84', '#ff4d4d', '#ffd23d'];  // kept, rejected, unj
 const STATE_NAMES = { ok: 'tracking', lost: 'lost', not_initialized: 'initialising' };
 
 // What the tests read (viewer/tests): counts of what arrived and was drawn.
-const state = { info: null, frames: 0, maps: 0, frame: null, mapPoints: 0, cloudPoints: 0, pieces: 0,
+const state = { info: null, paused: false, frames: 0, maps: 0, frame: null, mapPoints: 0, cloudPoints: 0, pieces: 0,
                 objects: 0, keyframes: 0, cells: 0, cellsVersion: 0, cellsDrawn: 0, truthPoints: 0, renders: 0, errors: [],
                 drawnMaps: 0 };
 window.sgslamViewer = state;
@@ -220,6 +220,7 @@ function showFrame(header, buffers) {
   setText('p-frame', `${header.index + 1}${state.info && state.info.frames ? ' of ' + state.info.frames : ''}`);
   const stateName = STATE_NAMES[header.state] || header.state;
   setText('p-state', stateName + (header.keyframe ? ' (keyframe)' : '') + (header.paused ? ', paused' : ''));
+  showPaused(header.paused);
   setText('p-ms', `${header.frame_ms.toFixed(1)} ms`);
   setText('p-fps', header.fps.toFixed(1));
   setText('p-rejected', `${(100 * header.rejected_share).toFixed(1)} %`);
@@ -316,6 +317,7 @@ function fitView(points) {
 function showMap(header, b) {
   state.maps++;
   requestRender();
+  showPaused(header.paused);
   if (header.cells_version !== undefined) state.cellsVersion = header.cells_version;
   if (state.maps === 1 && state.info && !state.info.live) {
     world.updateMatrixWorld();
@@ -391,6 +393,20 @@ const status = document.getElementById('status');
 const pauseButton = document.getElementById('b-pause');
 const stepButton = document.getElementById('b-step');
 let socket = null;
+// The run is paused while any page holds a pause (viewer/src/pause.h): the button
+// shows the server's state, which frames, maps and the answer to a control bring.
+// Between a control and its answer, what comes may have been made before it.
+let unanswered = 0;  // controls sent whose answering info has not come
+function showPaused(paused) {
+  if (paused === undefined || unanswered > 0) return;
+  pauseButton.textContent = paused ? 'resume' : 'pause';
+  state.paused = paused;
+}
+function sendControl(what) {
+  send({ control: what });
+  send({ get: 'info' });  // answered after the control: the state it left
+  unanswered++;
+}
 
 function send(message) {
   if (socket && socket.readyState === WebSocket.OPEN) socket.send(JSON.stringify(message));
@@ -408,11 +424,11 @@ function maxPieceId() {
 
 pauseButton.addEventListener('click', () => {
   const paused = pauseButton.textContent === 'resume';
-  send({ control: paused ? 'resume' : 'pause' });
+  sendControl(paused ? 'resume' : 'pause');
   pauseButton.textContent = paused ? 'pause' : 'resume';
 });
 stepButton.addEventListener('click', () => {
-  send({ control: 'step' });
+  sendControl('step');
   pauseButton.textContent = 'resume';
 });
 
@@ -421,6 +437,7 @@ function connect() {
   socket.binaryType = 'arraybuffer';
   socket.onopen = () => {
     status.textContent = '';
+    unanswered = 0;  // a new connection holds no pause; its info says whether another page does
     send({ get: 'info' });
     send({ get: 'frame', have: 0 });
     requestMap();
@@ -429,6 +446,8 @@ function connect() {
     try {
       const { header, buffers } = parseMessage(event.data);
       if (header.type === 'info') {
+        unanswered = Math.max(unanswered - 1, 0);
+        showPaused(header.paused);
         state.info = header;
         setText('p-run', `${header.live ? 'live' : 'finished run'}: ${header.dataset} (${header.mode})`);
         document.title = `sgslam viewer: ${header.dataset}`;
