@@ -16,8 +16,10 @@
 #include "progress.h"
 #include "vocab_eval.h"
 #include "sgslam/common/error.h"
+#include "sgslam/common/regular_file.h"
 #include "sgslam/common/stats.h"
 #include "sgslam/features/orb_extractor.h"
+#include "sgslam/io/image_file.h"
 #include "sgslam/io/text_file.h"
 #include "sgslam/vocab/training.h"
 
@@ -54,17 +56,26 @@ std::vector<fs::path> ReadList(const fs::path& list) {
 // The images of one --images source: a list file, a TUM folder (its rgb.txt),
 // or a folder of images (sorted by name).
 std::vector<fs::path> ImagesOf(const fs::path& source) {
-  if (fs::is_regular_file(source)) return ReadList(source);
-  if (!fs::is_directory(source)) throw InputError("--images " + source.string() + ": no such file or folder");
-  if (fs::is_regular_file(source / "rgb.txt")) return ReadList(source / "rgb.txt");
+  std::error_code ec;
+  if (!fs::is_directory(source, ec)) {
+    if (WhyNotRegularFile(source) == kNotFound) throw InputError("--images " + source.string() + ": no such file or folder");
+    return ReadList(source);  // which refuses a FIFO or a device, naming it
+  }
+  if (OptionalRegularFile(source / "rgb.txt", "image list")) return ReadList(source / "rgb.txt");
   std::vector<fs::path> out;
   for (const auto& e : fs::directory_iterator(source)) {
-    if (e.is_regular_file() && IsImage(e.path())) out.push_back(e.path());
+    // Not only regular files: an image name that is a FIFO is refused when read, not skipped.
+    if (!e.is_directory(ec) && IsImage(e.path())) out.push_back(e.path());
   }
   std::sort(out.begin(), out.end());
   if (out.empty()) throw InputError("--images " + source.string() + ": no rgb.txt and no images in the folder");
   return out;
 }
+
+// An 8K frame is 33 million pixels; these stop a wrong file, or a header claiming
+// 60000x60000 pixels, before it is decoded.
+constexpr std::uintmax_t kMaxImageBytes = 256 << 20;
+constexpr std::uint64_t kMaxImagePixels = 1 << 26;
 
 std::vector<cv::Mat> ExtractAll(const std::vector<fs::path>& paths, int features) {
   OrbConfig orb;
@@ -74,8 +85,7 @@ std::vector<cv::Mat> ExtractAll(const std::vector<fs::path>& paths, int features
   const Stopwatch watch;
   std::vector<cv::Mat> out;
   for (std::size_t i = 0; i < paths.size(); ++i) {
-    const cv::Mat gray = cv::imread(paths[i].string(), cv::IMREAD_GRAYSCALE);
-    if (gray.empty()) throw InputError("cannot read image " + paths[i].string());
+    const cv::Mat gray = ReadImageFile(paths[i], "training image", cv::IMREAD_GRAYSCALE, kMaxImageBytes, kMaxImagePixels);
     std::vector<cv::KeyPoint> keys;
     cv::Mat descriptors;
     extractor.Extract(gray, keys, descriptors);

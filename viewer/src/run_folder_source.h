@@ -13,8 +13,10 @@ namespace sgslam::viewer {
 
 class RunFolderSource : public Source {
  public:
-  // Throws sgslam::InputError when the folder has no trajectory.txt or a file in it
-  // is unreadable. A missing optional file (cloud, OctoMap, objects) is logged.
+  // Throws sgslam::InputError naming the file when the folder has no trajectory.txt,
+  // or a file in it is unreadable, malformed, too large or not a regular file (a
+  // FIFO is refused, not waited on). A missing optional file (cloud, OctoMap,
+  // objects) is logged.
   explicit RunFolderSource(const std::filesystem::path& folder);
 
   std::uint64_t FrameVersion() const override { return 0; }  // no frames: the map only

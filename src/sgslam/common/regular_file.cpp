@@ -16,7 +16,6 @@ namespace sgslam {
 
 namespace {
 
-constexpr const char* kNotFound = "not found";
 // Lines are read in pieces of this size: a line costs its own length, not the file's.
 constexpr std::size_t kLinePiece = 64 * 1024;
 
@@ -38,7 +37,7 @@ std::string WhyNotRegularFile(const std::filesystem::path& path) {
     const int error = errno;
     struct stat link {};
     if (error == ENOENT && lstat(path.c_str(), &link) == 0) return "is a broken symbolic link";
-    return error == ENOENT ? kNotFound : std::strerror(error);
+    return error == ENOENT ? std::string(kNotFound) : std::strerror(error);
   }
   return S_ISREG(st.st_mode) ? "" : KindOf(st.st_mode);
 }

@@ -60,8 +60,11 @@ class RegularFile {
 // RegularFile(path, what).ReadAll(max_bytes).
 std::string ReadRegularFile(const std::filesystem::path& path, const std::string& what, std::uint64_t max_bytes);
 
+// What WhyNotRegularFile says when nothing is under the name.
+inline constexpr std::string_view kNotFound = "not found";
+
 // "" when path names a regular file (links followed), else why not, in words
-// ("not found", "is a folder, not a file", "is a FIFO (named pipe), not a regular
+// (kNotFound, "is a folder, not a file", "is a FIFO (named pipe), not a regular
 // file", "is a broken symbolic link", ...).
 std::string WhyNotRegularFile(const std::filesystem::path& path);
 

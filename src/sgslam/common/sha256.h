@@ -14,7 +14,7 @@ std::string Sha256Hex(std::string_view bytes);
 
 // File name (without its folder) -> digest, as listed in a SHA256SUMS file (CRLF
 // line ends too). Throws ParseError naming the file and line of a malformed entry,
-// InputError if it cannot be read.
+// InputError naming it if it cannot be read, is not a regular file or is over 1 MiB.
 std::map<std::string, std::string> ReadSha256Sums(const std::filesystem::path& sums_file);
 
 }  // namespace sgslam

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "sgslam/common/error.h"
+#include "sgslam/common/regular_file.h"
 
 namespace sgslam {
 
@@ -73,13 +74,65 @@ void ReadValue(const fs::path& file, const std::string& key, const YAML::Node& n
 
 }  // namespace
 
-bool ConfigFileHasSection(const fs::path& file, const std::string& name) {
-  try {
-    const YAML::Node root = YAML::LoadFile(file.string());
-    return root.IsMap() && root[name];
-  } catch (const YAML::Exception&) {
-    return false;
+namespace {
+
+// The whole configuration printed (config_used.yaml) is 8 KB: a config file a
+// hundred times that is the wrong file, refused before it is read.
+constexpr std::uint64_t kMaxConfigBytes = 1 << 20;
+
+// The line of a node as an editor shows it (1-based).
+int LineOf(const YAML::Node& node) { return node.Mark().line + 1; }
+
+// A key given twice in one map, at any depth: yaml-cpp keeps the first value (and
+// drops a second section whole), PyYAML the last, so an edit made below a copied
+// key would be ignored without a word. `seen` holds the positions of the maps and
+// lists checked, so an alias of one (the same node) is not walked again.
+void CheckUniqueKeys(const fs::path& file, const YAML::Node& node, const std::string& prefix,
+                     std::set<std::size_t>& seen) {
+  if ((!node.IsMap() && !node.IsSequence()) || !seen.insert(static_cast<std::size_t>(node.Mark().pos)).second) return;
+  if (node.IsSequence()) {
+    for (const YAML::Node& item : node) CheckUniqueKeys(file, item, prefix, seen);
+    return;
   }
+  std::map<std::string, int> first_line;
+  for (const auto& kv : node) {
+    const std::string key = kv.first.IsScalar() ? kv.first.Scalar() : "";
+    if (kv.first.IsScalar()) {
+      if (const auto [at, fresh] = first_line.emplace(key, LineOf(kv.first)); !fresh) {
+        throw ConfigError(file.string() + ":" + std::to_string(LineOf(kv.first)) + ": '" + prefix + key +
+                          "' given twice, at lines " + std::to_string(at->second) + " and " +
+                          std::to_string(LineOf(kv.first)) + ": one of the two would be ignored; keep one");
+      }
+    }
+    CheckUniqueKeys(file, kv.second, prefix + key + ".", seen);
+  }
+}
+
+// The file's YAML. A file that is not a regular file (a FIFO would block the
+// reader), is too large, is not YAML or repeats a key throws ConfigError naming it.
+YAML::Node LoadYaml(const fs::path& file) {
+  std::string text;
+  try {
+    text = ReadRegularFile(file, "config file", kMaxConfigBytes);
+  } catch (const InputError& e) {
+    throw ConfigError(e.what());
+  }
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw ConfigError("cannot parse config file " + file.string() + ": " + e.what());
+  }
+  std::set<std::size_t> seen;
+  CheckUniqueKeys(file, root, "", seen);
+  return root;
+}
+
+}  // namespace
+
+bool ConfigFileHasSection(const fs::path& file, const std::string& name) {
+  const YAML::Node root = LoadYaml(file);
+  return root.IsMap() && root[name];
 }
 
 namespace {
@@ -113,14 +166,7 @@ std::string Suggestion(const std::string& name, const std::set<std::string>& kno
 }  // namespace
 
 void LoadConfigFile(const fs::path& file, Config& config) {
-  std::error_code ec;
-  if (!fs::is_regular_file(file, ec)) throw ConfigError("config file not found: " + file.string());
-  YAML::Node root;
-  try {
-    root = YAML::LoadFile(file.string());
-  } catch (const YAML::Exception& e) {
-    throw ConfigError("cannot parse config file " + file.string() + ": " + e.what());
-  }
+  const YAML::Node root = LoadYaml(file);
   if (root.IsNull()) return;  // an empty file changes nothing
   if (!root.IsMap()) throw ConfigError(file.string() + ": the top level must be a map of sections");
 

@@ -16,11 +16,13 @@ inline constexpr const char* kUnknownKeysDirective = "unknown_keys";
 // values). Unknown sections and keys throw ConfigError listing each with its file
 // and line (and the nearest known name), unless the file says `unknown_keys: warn`;
 // a value of the wrong type throws ConfigError naming the file, line and key. A
-// missing or unparsable file throws ConfigError naming the file.
+// missing or unparsable file, one that is not a regular file (a FIFO is refused,
+// not waited on) or is over 1 MiB, and a key given twice in one map (at any depth)
+// throw ConfigError naming the file (and both lines of the key).
 void LoadConfigFile(const std::filesystem::path& file, Config& config);
 
-// Whether a config file has a top-level section `name` (false when it cannot be
-// read: LoadConfigFile reports that).
+// Whether a config file has a top-level section `name`; throws as LoadConfigFile
+// does when the file cannot be read or parsed, or repeats a key.
 bool ConfigFileHasSection(const std::filesystem::path& file, const std::string& name);
 
 // The effective configuration as YAML, each key with its unit as a comment.

@@ -3,7 +3,6 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
-#include <fstream>
 #include <map>
 #include <sstream>
 
@@ -11,6 +10,7 @@
 
 #include "sgslam/common/data_dir.h"
 #include "sgslam/common/error.h"
+#include "sgslam/common/regular_file.h"
 #include "sgslam/common/sha256.h"
 
 namespace sgslam {
@@ -19,15 +19,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::string ReadWholeFile(const fs::path& path, const char* what) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw InputError(std::string(what) + " not found: " + path.string());
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (!in) throw InputError(std::string("cannot read ") + what + ": " + path.string());
-  return text.str();
-}
+// What a model folder's files may weigh. Darknet cfgs are a few KB and a class
+// list of COCO's 80 names 1 KB; the largest YOLO weights (v4, v7-e6e) are 250-600
+// MB. The bounds stop the wrong file before it is read.
+constexpr std::uint64_t kMaxCfgBytes = 1 << 20;
+constexpr std::uint64_t kMaxNamesBytes = 1 << 20;
+constexpr std::uint64_t kMaxWeightsBytes = std::uint64_t{2} << 30;
 
 std::string Trim(const std::string& s) {
   const auto first = s.find_first_not_of(" \t\r");
@@ -139,8 +136,10 @@ fs::path DarknetCfgPath(const fs::path& dir, const std::string& model) { return 
 fs::path DarknetWeightsPath(const fs::path& dir, const std::string& model) { return dir / (model + ".weights"); }
 
 bool DarknetModelPresent(const fs::path& dir, const std::string& model) {
-  std::error_code ec;
-  return fs::is_regular_file(DarknetCfgPath(dir, model), ec) && fs::is_regular_file(DarknetWeightsPath(dir, model), ec);
+  // Something under both names counts: a FIFO or a folder there is then refused by
+  // LoadDarknetModel, naming it, rather than taken for a model not installed.
+  return WhyNotRegularFile(DarknetCfgPath(dir, model)) != kNotFound &&
+         WhyNotRegularFile(DarknetWeightsPath(dir, model)) != kNotFound;
 }
 
 DarknetModel LoadDarknetModel(const fs::path& dir, const std::string& model, float score_floor) {
@@ -148,15 +147,14 @@ DarknetModel LoadDarknetModel(const fs::path& dir, const std::string& model, flo
   m.cfg = DarknetCfgPath(dir, model);
   m.weights = DarknetWeightsPath(dir, model);
   const fs::path names_file = dir / "coco.names";
-  const std::string cfg_text = ReadWholeFile(m.cfg, "model cfg file");
-  const std::string weights = ReadWholeFile(m.weights, "model weights file");
-  const std::string names = ReadWholeFile(names_file, "class names file");
-  std::error_code ec;
-  if (const fs::path sums_file = dir / "SHA256SUMS"; fs::is_regular_file(sums_file, ec)) {
-    const auto sums = ReadSha256Sums(sums_file);
+  const std::string cfg_text = ReadRegularFile(m.cfg, "model cfg file", kMaxCfgBytes);
+  const std::string weights = ReadRegularFile(m.weights, "model weights file", kMaxWeightsBytes);
+  const std::string names = ReadRegularFile(names_file, "class names file", kMaxNamesBytes);
+  if (const auto sums_file = OptionalRegularFile(dir / "SHA256SUMS", "checksum list")) {
+    const auto sums = ReadSha256Sums(*sums_file);
     for (const fs::path& f : {m.cfg, m.weights}) {
       if (!sums.count(f.filename().string())) {
-        spdlog::warn("{} does not list {}: the file is loaded unchecked", sums_file.string(), f.filename().string());
+        spdlog::warn("{} does not list {}: the file is loaded unchecked", sums_file->string(), f.filename().string());
       }
     }
     CheckListedSum(m.cfg, cfg_text, sums);
@@ -174,16 +172,22 @@ DarknetModel LoadDarknetModel(const fs::path& dir, const std::string& model, flo
                      m.cfg.filename().string() + " has " + std::to_string(classes) +
                      " classes: " + names_file.string());
   }
-  // Parse the cfg alone first, so an error names the file that caused it.
+  // Parse the cfg alone first, so an error names the file that caused it. OpenCV
+  // sizes layers from the cfg, so a wild value may end in std::bad_alloc (or
+  // another library exception) instead of a cv::Exception: each names the file too.
   try {
     cv::dnn::readNetFromDarknet(cfg.data(), cfg.size());
   } catch (const cv::Exception& e) {
     throw InputError("OpenCV cannot parse the model cfg " + m.cfg.string() + ": " + e.err);
+  } catch (const std::exception& e) {
+    throw InputError("OpenCV cannot parse the model cfg " + m.cfg.string() + ": " + e.what());
   }
   try {
     m.net = cv::dnn::readNetFromDarknet(cfg.data(), cfg.size(), weights.data(), weights.size());
   } catch (const cv::Exception& e) {
     throw InputError("OpenCV cannot read the model weights " + m.weights.string() + ": " + e.err);
+  } catch (const std::exception& e) {
+    throw InputError("OpenCV cannot read the model weights " + m.weights.string() + ": " + e.what());
   }
   CheckWeightsSize(m.net, weights, m);
   m.net.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);

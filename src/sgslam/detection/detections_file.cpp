@@ -2,7 +2,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <string>
 #include <string_view>
 
@@ -88,29 +87,21 @@ void WriteDetectionsFile(const fs::path& path, const std::vector<FrameDetections
 }
 
 std::map<Timestamp, std::vector<Detection>> ReadDetectionsFile(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw InputError("detections file not found: " + path.string());
-  std::ifstream in(path);
-  if (!in) throw InputError("cannot open detections file: " + path.string());
   std::map<Timestamp, std::vector<Detection>> result;
-  std::string line;
   std::vector<std::string_view> fields;
-  int number = 0;
-  while (std::getline(in, line)) {
-    ++number;
+  ForEachTextLine(path, "detections file", [&](int number, std::string_view line) {
     std::size_t first = 0;
     while (first < line.size() && IsSpace(line[first])) ++first;
-    if (first == line.size() || line[first] == '#') continue;
+    if (first == line.size() || line[first] == '#') return;
     std::string_view name;
     if (!SplitFields(line, 7, fields, name)) {
       throw ParseError(path.string(), number,
-                       "expected 'timestamp class_id score x0 y0 x1 y1 class_name', got '" + line + "'");
+                       "expected 'timestamp class_id score x0 y0 x1 y1 class_name', got '" + std::string(line) + "'");
     }
     const auto t = ParseTimestamp(fields[0]);
     if (!t) throw ParseError(path.string(), number, "bad timestamp '" + std::string(fields[0]) + "'");
     result[*t].push_back(ParseDetection(fields, name, path, number));
-  }
-  if (in.bad()) throw InputError("error while reading detections file: " + path.string());
+  });
   return result;
 }
 

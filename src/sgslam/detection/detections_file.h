@@ -27,7 +27,8 @@ inline constexpr double kMaxBoxCoordinate = 1e6;
 void WriteDetectionsFile(const std::filesystem::path& path, const std::vector<FrameDetections>& frames);
 
 // Reads every detection, grouped by timestamp in file order. Throws InputError for a
-// missing file and ParseError (file:line) for a malformed line: a score outside
+// missing file, one that is not a regular file or one too large (io/text_file.h's
+// ForEachTextLine), and ParseError (file:line) for a malformed line: a score outside
 // [0, 1], a corner beyond kMaxBoxCoordinate, or corners out of order, say.
 std::map<Timestamp, std::vector<Detection>> ReadDetectionsFile(const std::filesystem::path& path);
 

@@ -4,6 +4,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "sgslam/common/error.h"
+#include "sgslam/common/regular_file.h"
+#include "sgslam/io/image_file.h"
 #include "sgslam/io/text_file.h"
 
 namespace sgslam::eval {
@@ -46,7 +48,7 @@ MaskScore ScoreKeypoints(const cv::Mat& mask, const std::vector<cv::Point2f>& po
 
 MaskIndex::MaskIndex(const std::filesystem::path& dir) : dir_(dir) {
   const auto list = dir / "mask.txt";
-  if (!std::filesystem::exists(list)) return;
+  if (!OptionalRegularFile(list, "mask list")) return;
   ForEachDataLine(list, [&](int line, const std::vector<std::string_view>& tokens) {
     if (tokens.size() < 2) throw ParseError(list.string(), line, "expected 'timestamp file'");
     const auto t = ParseTimestamp(tokens[0]);
@@ -60,9 +62,14 @@ std::optional<cv::Mat> MaskIndex::Load(Timestamp t) const {
   auto it = files_.lower_bound(t - FromSeconds(0.001));
   if (it == files_.end() || it->first > t + FromSeconds(0.001)) return std::nullopt;
   const auto path = dir_ / it->second;
-  cv::Mat mask = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
-  if (mask.empty()) throw InputError("cannot read dynamic mask " + path.string());
-  return mask;
+  // A mask has a frame's size: these hold a 16-bit 8K frame, and stop a wrong file
+  // (or a header claiming 60000x60000 pixels) before it costs memory.
+  constexpr std::uint64_t kMaxMaskBytes = 256 << 20, kMaxMaskPixels = 1 << 26;
+  try {
+    return ReadImageFile(path, "image", cv::IMREAD_GRAYSCALE, kMaxMaskBytes, kMaxMaskPixels);
+  } catch (const InputError& e) {
+    throw InputError(std::string("cannot read dynamic mask: ") + e.what());
+  }
 }
 
 }  // namespace sgslam::eval

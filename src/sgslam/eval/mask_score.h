@@ -53,11 +53,13 @@ MaskScore ScoreKeypoints(const cv::Mat& mask, const std::vector<cv::Point2f>& po
 class MaskIndex {
  public:
   // Reads <dir>/mask.txt; an absent file gives an empty index (no scoring).
-  // Throws InputError / ParseError for a malformed list.
+  // Throws InputError / ParseError for a malformed list, or one that is not a
+  // regular file (a FIFO, a folder).
   explicit MaskIndex(const std::filesystem::path& dir);
   bool empty() const { return files_.empty(); }
   // The mask of the frame at t (within 1 ms), or nullopt. Throws InputError
-  // naming the file when a listed mask cannot be read.
+  // naming the file when a listed mask cannot be read, is not a regular file, or
+  // is larger (file or header) than any frame's mask.
   std::optional<cv::Mat> Load(Timestamp t) const;
 
  private:

@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <array>
-#include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
 #include "sgslam/common/error.h"
+#include "sgslam/common/regular_file.h"
 
 namespace sgslam {
 
@@ -76,19 +76,15 @@ std::optional<ImageHeader> ReadImageHeader(std::span<const std::uint8_t> b) {
   return std::nullopt;
 }
 
-std::vector<std::uint8_t> ReadFileBytes(const std::filesystem::path& path, std::uintmax_t max_bytes) {
-  std::error_code ec;
-  const std::uintmax_t size = std::filesystem::file_size(path, ec);
-  if (ec) throw InputError("cannot read " + path.string() + ": " + ec.message());
-  if (size > max_bytes) {
-    throw InputError("file " + path.string() + " is " + std::to_string(size) + " bytes, more than the " +
-                     std::to_string(max_bytes) + " an image of this camera can need");
+std::vector<std::uint8_t> ReadFileBytes(const std::filesystem::path& path, std::uintmax_t max_bytes,
+                                        const std::string& what) {
+  const RegularFile file(path, what);
+  if (file.size() > max_bytes) {
+    file.Fail(std::to_string(file.size()) + " bytes, more than the " + std::to_string(max_bytes) +
+              " an image of this camera can need");
   }
-  std::vector<std::uint8_t> bytes(size);
-  std::ifstream in(path, std::ios::binary);
-  if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(size))) {
-    throw InputError("cannot read " + path.string());
-  }
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(file.size()));
+  file.ReadInto(0, std::span<char>(reinterpret_cast<char*>(bytes.data()), bytes.size()));
   return bytes;
 }
 
@@ -106,6 +102,18 @@ cv::Mat DecodeImageFile(const std::filesystem::path& path, const std::vector<std
   }
   if (m.empty()) throw InputError("cannot read image (corrupt or not an image): " + path.string());
   return m;
+}
+
+cv::Mat ReadImageFile(const std::filesystem::path& path, const std::string& what, int flags, std::uintmax_t max_bytes,
+                      std::uint64_t max_pixels) {
+  const std::vector<std::uint8_t> bytes = ReadFileBytes(path, max_bytes, what);
+  const std::optional<ImageHeader> header = ReadImageHeader(bytes);
+  if (header && std::uint64_t{header->width} * header->height > max_pixels) {
+    throw InputError(what + " " + path.string() + ": its " + header->format + " header claims " +
+                     std::to_string(header->width) + "x" + std::to_string(header->height) + " pixels, more than the " +
+                     std::to_string(max_pixels) + " such an image can have");
+  }
+  return DecodeImageFile(path, bytes, header, flags);
 }
 
 }  // namespace sgslam

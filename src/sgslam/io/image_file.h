@@ -25,14 +25,23 @@ struct ImageHeader {
 // header too short to hold the size.
 std::optional<ImageHeader> ReadImageHeader(std::span<const std::uint8_t> bytes);
 
-// The whole file; throws InputError naming it when it cannot be read or is larger
-// than max_bytes.
-std::vector<std::uint8_t> ReadFileBytes(const std::filesystem::path& path, std::uintmax_t max_bytes);
+// The whole file; throws InputError naming it ("<what> <path>: ...") when it is not a
+// regular file (a FIFO is refused, not waited on), cannot be read or is larger than
+// max_bytes.
+std::vector<std::uint8_t> ReadFileBytes(const std::filesystem::path& path, std::uintmax_t max_bytes,
+                                        const std::string& what = "image");
 
 // Decodes an image file held in memory (cv::IMREAD_* flags); header is what
 // ReadImageHeader gave for these bytes. A PNG or JPEG cut short is refused; every
 // failure is an InputError naming the file.
 cv::Mat DecodeImageFile(const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes,
                         const std::optional<ImageHeader>& header, int flags);
+
+// An image file a user named (a mask, a training image), read as TumDataset reads
+// frames: a regular file of at most max_bytes, a PNG or JPEG header of at most
+// max_pixels pixels (checked before decoding), whole. Every error is an InputError
+// naming `what` and the path.
+cv::Mat ReadImageFile(const std::filesystem::path& path, const std::string& what, int flags, std::uintmax_t max_bytes,
+                      std::uint64_t max_pixels);
 
 }  // namespace sgslam

@@ -17,7 +17,9 @@ using Rgb = std::array<std::uint8_t, 3>;
 void WritePly(const std::filesystem::path& path, const std::vector<Eigen::Vector3d>& points,
               const std::vector<Rgb>& colours = {});
 
-// Reads what WritePly writes (tests, tools). Throws InputError on anything else.
+// Reads what WritePly writes (tests, tools, sgslam view): a regular file of at most
+// 1 GiB whose header is checked against its size before anything is allocated.
+// Throws InputError naming the file on anything else.
 std::vector<Eigen::Vector3d> ReadPlyPoints(const std::filesystem::path& path, std::vector<Rgb>* colours = nullptr);
 
 }  // namespace sgslam

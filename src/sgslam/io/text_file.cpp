@@ -14,26 +14,37 @@
 #include <system_error>
 
 #include "sgslam/common/error.h"
+#include "sgslam/common/regular_file.h"
 
 namespace sgslam {
 
 namespace fs = std::filesystem;
 
-void ForEachDataLine(const fs::path& path,
-                     const std::function<void(int, const std::vector<std::string_view>&)>& fn) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) throw InputError("file not found: " + path.string());
-  std::ifstream in(path);
-  if (!in) throw InputError("cannot open file: " + path.string());
-  std::string line;
-  std::vector<std::string_view> tokens;
-  int number = 0;
-  while (std::getline(in, line)) {
-    ++number;
-    if (!line.empty() && line.back() == '\r') line.pop_back();  // files written on Windows
-    if (line.find('\0') != std::string::npos) {  // a path would end at it and name another file
+namespace {
+
+// No TUM list, trajectory or detections file comes near these: an hour at 100 Hz
+// is 30 MB, and a line holds a few numbers and a path of at most PATH_MAX (4096)
+// bytes. A file beyond them is the wrong file, refused before it costs memory.
+constexpr std::uint64_t kMaxTextFileBytes = std::uint64_t{1} << 30;
+constexpr std::size_t kMaxTextLineBytes = 64 * 1024;
+
+}  // namespace
+
+void ForEachTextLine(const fs::path& path, const std::string& what,
+                     const std::function<void(int line, std::string_view text)>& fn) {
+  RegularFile(path, what).ForEachLine(kMaxTextFileBytes, kMaxTextLineBytes, [&](int number, std::string_view line) {
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);  // files written on Windows
+    if (line.find('\0') != std::string_view::npos) {  // a path would end at it and name another file
       throw ParseError(path.string(), number, "a NUL byte in the line (a binary file, or a corrupted one?)");
     }
+    fn(number, line);
+  });
+}
+
+void ForEachDataLine(const fs::path& path,
+                     const std::function<void(int, const std::vector<std::string_view>&)>& fn) {
+  std::vector<std::string_view> tokens;
+  ForEachTextLine(path, "file", [&](int number, std::string_view line) {
     tokens.clear();
     std::size_t i = 0;
     while (i < line.size()) {
@@ -42,10 +53,9 @@ void ForEachDataLine(const fs::path& path,
       while (i < line.size() && line[i] != ' ' && line[i] != '\t' && line[i] != ',') ++i;
       if (i > start) tokens.emplace_back(line.data() + start, i - start);
     }
-    if (tokens.empty() || tokens[0].front() == '#') continue;
+    if (tokens.empty() || tokens[0].front() == '#') return;
     fn(number, tokens);
-  }
-  if (in.bad()) throw InputError("error while reading file: " + path.string());
+  });
 }
 
 double ParseNumber(std::string_view token, const fs::path& path, int line, const char* what) {

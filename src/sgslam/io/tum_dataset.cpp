@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "sgslam/common/error.h"
+#include "sgslam/common/regular_file.h"
 #include "sgslam/common/stats.h"
 #include "sgslam/io/association.h"
 #include "sgslam/io/image_file.h"
@@ -83,7 +84,7 @@ TumDataset::TumDataset(const fs::path& dir, const DatasetConfig& config) {
   if (!fs::is_directory(dir, ec)) throw InputError("dataset folder not found: " + dir.string());
   dir_ = fs::canonical(dir, ec);
   const fs::path associations = dir_ / "associations.txt";
-  if (fs::is_regular_file(associations, ec)) {
+  if (OptionalRegularFile(associations, "associations file")) {
     associations_from_file_ = true;
     ForEachDataLine(associations, [&](int line, const std::vector<std::string_view>& tok) {
       if (tok.size() < 4) {
@@ -99,7 +100,7 @@ TumDataset::TumDataset(const fs::path& dir, const DatasetConfig& config) {
                      [](const FrameRecord& a, const FrameRecord& b) { return a.t_rgb < b.t_rgb; });
   } else {
     for (const char* list : {"rgb.txt", "depth.txt"}) {
-      if (!fs::is_regular_file(dir_ / list, ec)) {
+      if (!OptionalRegularFile(dir_ / list, "image list")) {
         throw InputError("missing " + (dir_ / list).string() +
                          " (a TUM RGB-D folder needs rgb.txt and depth.txt, or associations.txt)");
       }
@@ -121,24 +122,19 @@ TumDataset::TumDataset(const fs::path& dir, const DatasetConfig& config) {
     spdlog::debug("associated {} of {} RGB and {} depth images", frames_.size(), rgb.size(), depth.size());
   }
   if (frames_.empty()) throw InputError("empty sequence: " + associations.string() + " lists no frame");
+  groundtruth_ = OptionalRegularFile(dir_ / "groundtruth.txt", "ground truth");
 }
 
 std::string TumDataset::name() const { return dir_.filename().string(); }
-
-std::optional<fs::path> TumDataset::groundtruth_path() const {
-  std::error_code ec;
-  const fs::path p = dir_ / "groundtruth.txt";
-  if (fs::is_regular_file(p, ec)) return p;
-  return std::nullopt;
-}
 
 RgbdImages TumDataset::Load(std::size_t i, const CameraConfig& camera) const {
   const FrameRecord& r = frames_.at(i);
   // Even an uncompressed 16-bit RGBA file of the camera's size fits in this.
   const std::uintmax_t max_bytes = 8ull * static_cast<std::uintmax_t>(camera.width) * camera.height + (1u << 20);
   const auto read = [&](const fs::path& p) {
-    std::error_code ec;
-    if (!fs::is_regular_file(p, ec)) throw InputError("image missing: " + p.string() + " (listed in " + r.listed_at + ")");
+    if (!OptionalRegularFile(p, "image (listed in " + r.listed_at + ")")) {
+      throw InputError("image missing: " + p.string() + " (listed in " + r.listed_at + ")");
+    }
     return ReadFileBytes(p, max_bytes);
   };
   const std::vector<std::uint8_t> rgb_bytes = read(r.rgb), depth_bytes = read(r.depth);

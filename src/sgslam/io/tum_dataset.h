@@ -36,7 +36,8 @@ class TumDataset {
  public:
   // Throws InputError naming the folder or file: missing folder or list file,
   // malformed line or a time rgb.txt or depth.txt lists twice (file:line), empty
-  // sequence.
+  // sequence; an associations.txt, rgb.txt, depth.txt or groundtruth.txt that is
+  // not a regular file (a FIFO, a folder: refused, never waited on or skipped).
   TumDataset(const std::filesystem::path& dir, const DatasetConfig& config);
 
   const std::filesystem::path& dir() const { return dir_; }
@@ -45,8 +46,8 @@ class TumDataset {
   std::size_t size() const { return frames_.size(); }
   bool associations_from_file() const { return associations_from_file_; }
 
-  // groundtruth.txt when the folder has one.
-  std::optional<std::filesystem::path> groundtruth_path() const;
+  // groundtruth.txt when the folder has one (looked at on opening).
+  const std::optional<std::filesystem::path>& groundtruth_path() const { return groundtruth_; }
 
   // Reads and checks frame i: files exist and decode, depth is 16-bit single
   // channel, RGB and depth sizes agree with each other and with the camera.
@@ -56,6 +57,7 @@ class TumDataset {
   std::filesystem::path dir_;
   std::vector<FrameRecord> frames_;
   bool associations_from_file_ = false;
+  std::optional<std::filesystem::path> groundtruth_;
 };
 
 // "; with camera.depth_factor = F (millimetres) it would be X m" for the common

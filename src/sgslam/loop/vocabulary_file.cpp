@@ -2,6 +2,7 @@
 
 #include "sgslam/common/data_dir.h"
 #include "sgslam/common/error.h"
+#include "sgslam/common/regular_file.h"
 
 namespace sgslam {
 
@@ -11,8 +12,11 @@ fs::path ResolveVocabulary(const std::string& configured) {
   static const std::string kInstead = "; set loop.vocabulary to a file `sgslam vocab train` wrote, or run without "
                                       "place recognition with loop.enabled: false";
   if (!configured.empty()) {
-    std::error_code ec;
-    if (!fs::is_regular_file(configured, ec)) throw InputError("loop.vocabulary: no such file " + configured + kInstead);
+    if (const std::string why = WhyNotRegularFile(configured); why == kNotFound) {
+      throw InputError("loop.vocabulary: no such file " + configured + kInstead);
+    } else if (!why.empty()) {
+      throw InputError("loop.vocabulary: " + configured + " " + why + kInstead);
+    }
     return configured;
   }
   const auto data = DataDir();

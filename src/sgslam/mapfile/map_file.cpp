@@ -1,13 +1,16 @@
 #include "sgslam/mapfile/map_file.h"
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
-#include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
+#include <streambuf>
+#include <string_view>
 
 #include <Eigen/Core>
 #include <cereal/archives/portable_binary.hpp>
@@ -15,6 +18,7 @@
 #include <cereal/types/utility.hpp>
 
 #include "sgslam/common/error.h"
+#include "sgslam/common/regular_file.h"
 #include "sgslam/common/sha256.h"
 #include "sgslam/io/text_file.h"
 
@@ -186,26 +190,56 @@ std::string Encode(const MapData& data) {
   return out;
 }
 
-MapData Decode(const std::string& bytes, const std::string& what) {
-  if (bytes.size() < kHeaderBytes) Fail(what, "too short for a map file (" + std::to_string(bytes.size()) + " bytes)");
+namespace {
+
+struct Header {
+  std::uint64_t payload_bytes = 0;
+  std::string checksum;  // SHA-256 of the payload, 32 raw bytes
+};
+
+// The header's magic and version; `bytes` holds the header, `file_bytes` is the
+// whole file's size, which must be the header's and the payload's it gives.
+Header ParseHeader(std::string_view bytes, std::uint64_t file_bytes, const std::string& what) {
+  if (file_bytes < kHeaderBytes) Fail(what, "too short for a map file (" + std::to_string(file_bytes) + " bytes)");
   if (std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) Fail(what, "not an sgslam map file (wrong magic)");
   std::uint32_t version = 0;
-  std::uint64_t size = 0;
+  Header h;
   std::memcpy(&version, bytes.data() + 8, sizeof version);
-  std::memcpy(&size, bytes.data() + 12, sizeof size);
+  std::memcpy(&h.payload_bytes, bytes.data() + 12, sizeof h.payload_bytes);
   if (version != kFormatVersion) {
     Fail(what, "format version " + std::to_string(version) + "; this sgslam reads version " +
                    std::to_string(kFormatVersion));
   }
-  if (size != bytes.size() - kHeaderBytes) {
-    Fail(what, "truncated or padded: the header says " + std::to_string(size) + " payload bytes, the file has " +
-                   std::to_string(bytes.size() - kHeaderBytes));
+  if (h.payload_bytes != file_bytes - kHeaderBytes) {
+    Fail(what, "truncated or padded: the header says " + std::to_string(h.payload_bytes) +
+                   " payload bytes, the file has " + std::to_string(file_bytes - kHeaderBytes));
   }
-  const std::string payload = bytes.substr(kHeaderBytes);
-  if (Sha256Bytes(payload) != bytes.substr(20, 32)) Fail(what, "checksum mismatch (the file is corrupt)");
+  h.checksum = std::string(bytes.substr(20, 32));
+  return h;
+}
+
+// The payload as a stream without a copy (cereal reads an istream; CheckCount asks
+// where it is).
+class PayloadBuffer : public std::streambuf {
+ public:
+  explicit PayloadBuffer(const std::string& bytes) {
+    char* begin = const_cast<char*>(bytes.data());  // only ever read
+    setg(begin, begin, begin + bytes.size());
+  }
+
+ protected:
+  pos_type seekoff(off_type off, std::ios_base::seekdir dir, std::ios_base::openmode) override {
+    if (off != 0 || dir != std::ios_base::cur) return pos_type(off_type(-1));
+    return pos_type(gptr() - eback());
+  }
+};
+
+MapData DecodePayload(const std::string& payload, const Header& h, const std::string& what) {
+  if (Sha256Bytes(payload) != h.checksum) Fail(what, "checksum mismatch (the file is corrupt)");
   MapData data;
   try {
-    std::istringstream in(payload, std::ios::binary);
+    PayloadBuffer buffer(payload);
+    std::istream in(&buffer);
     g_payload = &in;
     g_payload_size = payload.size();
     struct Reset {
@@ -223,18 +257,31 @@ MapData Decode(const std::string& bytes, const std::string& what) {
   return data;
 }
 
+}  // namespace
+
+MapData Decode(const std::string& bytes, const std::string& what) {
+  const Header h = ParseHeader(bytes, bytes.size(), what);
+  return DecodePayload(bytes.substr(kHeaderBytes), h, what);
+}
+
 void WriteMapFile(const std::filesystem::path& path, const MapData& data) {
   WriteFileAtomically(path, Encode(data));
 }
 
 MapData ReadMapFile(const std::filesystem::path& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) Fail(path.string(), "not found (or not a file)");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) Fail(path.string(), "cannot open");
-  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) Fail(path.string(), "read error");
-  return Decode(bytes, path.string());
+  // The header first: a file of the wrong kind, or whose header does not fit its
+  // size, is refused after reading 52 bytes, not after reading gigabytes.
+  const RegularFile file(path, "map file");
+  const std::string header = file.Read(0, static_cast<std::size_t>(std::min<std::uint64_t>(kHeaderBytes, file.size())));
+  const Header h = ParseHeader(header, file.size(), path.string());
+  // Decoding holds the payload and the map it makes: a payload beyond the
+  // machine's memory can only end in std::bad_alloc, or in swapping for minutes.
+  const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
+  if (pages > 0 && page > 0 && h.payload_bytes > static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page)) {
+    Fail(path.string(), std::to_string(h.payload_bytes) + " bytes of map, more than this machine's memory");
+  }
+  const std::string payload = file.Read(kHeaderBytes, static_cast<std::size_t>(h.payload_bytes));
+  return DecodePayload(payload, h, path.string());
 }
 
 namespace {

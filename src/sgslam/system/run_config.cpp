@@ -5,6 +5,7 @@
 #include "sgslam/camera/presets.h"
 #include "sgslam/common/data_dir.h"
 #include "sgslam/common/error.h"
+#include "sgslam/common/regular_file.h"
 #include "sgslam/config/yaml_io.h"
 
 namespace sgslam {
@@ -40,11 +41,12 @@ fs::path ResolveConfigPath(const fs::path& config) {
 
 RunConfig ResolveRunConfig(const std::optional<fs::path>& config_file, const fs::path& dataset_dir) {
   RunConfig out;
-  std::error_code ec;
   const fs::path local = dataset_dir / "sgslam.yaml";
+  // A FIFO or a folder under the name is an error, not a folder without a config.
+  const bool has_local = OptionalRegularFile(local, "the dataset's config file").has_value();
   std::optional<fs::path> file;
   if (config_file) file = ResolveConfigPath(*config_file);
-  if (!file && fs::is_regular_file(local, ec)) file = local;
+  if (!file && has_local) file = local;
   const std::optional<std::string> preset = CameraPresetForFolder(dataset_dir);
   // A file with a camera section describes the camera (keys it omits keep their
   // generic defaults: a readout it does not give is a global shutter); a file
@@ -52,7 +54,7 @@ RunConfig ResolveRunConfig(const std::optional<fs::path>& config_file, const fs:
   if (file && ConfigFileHasSection(*file, "camera")) {
     LoadConfigFile(*file, out.config);
     out.source = file->string();
-  } else if (file && fs::is_regular_file(local, ec) && ConfigFileHasSection(local, "camera")) {
+  } else if (file && has_local && ConfigFileHasSection(local, "camera")) {
     // The folder describes its own camera (sgslam synth writes one): the given
     // file goes on top of the folder's file, camera and all. Before, the TUM fr1
     // camera replaced a synthetic sequence's.

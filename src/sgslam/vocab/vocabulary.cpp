@@ -5,12 +5,13 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <iterator>
+#include <string_view>
 #include <limits>
 #include <map>
 
 #include "sgslam/common/error.h"
+#include "sgslam/common/regular_file.h"
 #include "sgslam/common/sha256.h"
 #include "sgslam/features/hamming.h"
 #include "sgslam/io/text_file.h"
@@ -109,45 +110,70 @@ std::string Vocabulary::SerializeBody() const {
 
 void Vocabulary::Save(const std::filesystem::path& file) const { WriteFileAtomically(file, Serialize()); }
 
-Vocabulary Vocabulary::Load(const std::filesystem::path& file) {
-  const std::string what = "vocabulary " + file.string();
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError("cannot read " + what);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (bytes.size() < kHeaderBytes + kChecksumChars || std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
+namespace {
+
+// Nodes a file may hold: 16 times the 4.2 million of a k 10, L 7 tree as far as
+// DBoW2's largest; 2.5 GB of file. A header claiming more is the wrong file.
+constexpr std::uint64_t kMaxNodes = std::uint64_t{1} << 26;
+
+struct Header {
+  std::uint32_t branching = 0, levels = 0, count = 0;
+  std::uint64_t images = 0;
+};
+
+// The header, checked before the body is read: magic, version, shape, and the
+// file's size against the node count it gives.
+Header ReadHeader(const RegularFile& file, const std::string& what) {
+  if (file.size() < kHeaderBytes + kChecksumChars) {
+    throw InputError(what + ": not an sgslam vocabulary file (" + std::to_string(file.size()) +
+                     " bytes, too short for one; train one with `sgslam vocab train`)");
+  }
+  const std::string bytes = file.Read(0, kHeaderBytes);
+  if (std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
     throw InputError(what + ": not an sgslam vocabulary file (no SGVOCAB header; train one with `sgslam vocab train`)");
   }
   std::size_t at = sizeof(kMagic);
-  const auto version = Get<std::uint32_t>(bytes, at);
-  if (version != kVocabularyVersion) {
+  if (const auto version = Get<std::uint32_t>(bytes, at); version != kVocabularyVersion) {
     throw InputError(what + ": file version " + std::to_string(version) + ", this build reads version " +
                      std::to_string(kVocabularyVersion) + " (train it again with `sgslam vocab train`)");
   }
-  const auto branching = Get<std::uint32_t>(bytes, at);
-  const auto levels = Get<std::uint32_t>(bytes, at);
-  const auto count = Get<std::uint32_t>(bytes, at);
-  const auto images = Get<std::uint64_t>(bytes, at);
-  const std::size_t expected = kHeaderBytes + std::size_t{count} * kNodeBytes + kChecksumChars;
-  if (bytes.size() != expected) {
-    throw InputError(what + ": " + std::to_string(bytes.size()) + " bytes, expected " + std::to_string(expected) +
-                     " for " + std::to_string(count) + " nodes (truncated or corrupt)");
+  Header h;
+  h.branching = Get<std::uint32_t>(bytes, at);
+  h.levels = Get<std::uint32_t>(bytes, at);
+  h.count = Get<std::uint32_t>(bytes, at);
+  h.images = Get<std::uint64_t>(bytes, at);
+  if (h.branching > kMaxBranching || h.levels > kMaxLevels || h.count > kMaxNodes) {
+    throw InputError(what + ": branching " + std::to_string(h.branching) + ", levels " + std::to_string(h.levels) +
+                     " or node count " + std::to_string(h.count) + " out of range (corrupt header)");
   }
-  const std::string body = bytes.substr(0, expected - kChecksumChars);
-  if (Sha256Hex(body) != bytes.substr(expected - kChecksumChars)) {
+  const std::uint64_t expected = kHeaderBytes + std::uint64_t{h.count} * kNodeBytes + kChecksumChars;
+  if (file.size() != expected) {
+    throw InputError(what + ": " + std::to_string(file.size()) + " bytes, expected " + std::to_string(expected) +
+                     " for the " + std::to_string(h.count) + " nodes its header gives (truncated or corrupt)");
+  }
+  return h;
+}
+
+}  // namespace
+
+Vocabulary Vocabulary::Load(const std::filesystem::path& file) {
+  const std::string what = "vocabulary " + file.string();
+  const RegularFile in(file, "vocabulary");
+  const Header h = ReadHeader(in, what);
+  const std::string bytes = in.Read(0, static_cast<std::size_t>(in.size()));
+  const std::size_t body = bytes.size() - kChecksumChars;
+  if (Sha256Hex(std::string_view(bytes).substr(0, body)) != std::string_view(bytes).substr(body)) {
     throw InputError(what + ": checksum mismatch (the file is corrupt)");
   }
-  if (branching > kMaxBranching || levels > kMaxLevels) {
-    throw InputError(what + ": branching " + std::to_string(branching) + " or levels " + std::to_string(levels) +
-                     " out of range");
-  }
-  std::vector<Node> nodes(count);
+  std::vector<Node> nodes(h.count);
+  std::size_t at = kHeaderBytes;
   for (Node& n : nodes) {
     n.children = Get<std::uint16_t>(bytes, at);
     std::memcpy(n.descriptor.data(), bytes.data() + at, kDescriptorBytes);
     at += kDescriptorBytes;
     n.weight = Get<float>(bytes, at);
   }
-  return Vocabulary(static_cast<int>(branching), static_cast<int>(levels), images, std::move(nodes), what);
+  return Vocabulary(static_cast<int>(h.branching), static_cast<int>(h.levels), h.images, std::move(nodes), what);
 }
 
 WordId Vocabulary::Quantize(const std::uint8_t* descriptor, int node_level, NodeId& node) const {

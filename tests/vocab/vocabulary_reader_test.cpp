@@ -1,0 +1,71 @@
+// The vocabulary's reader on files of the wrong kind and headers that lie (issue
+// #47): the header is read first, and its node count checked against the file's
+// size, so a FIFO, a device, a huge file of another kind or a header claiming
+// millions of nodes is refused at once, naming the file.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstring>
+#include <fstream>
+
+#include "sgslam/common/error.h"
+#include "sgslam/vocab/vocabulary.h"
+#include "support/reader_faults.h"
+#include "support/test_support.h"
+
+namespace sgslam::vocab {
+namespace {
+
+namespace fs = std::filesystem;
+using test::ExpectAll;
+using test::RefusalOf;
+using test::TempDir;
+
+std::string ValidVocabulary() {
+  std::ifstream in(test::SourceDir() / "fuzz" / "corpus" / "vocabulary" / "valid-k2-l3.vocab", std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void WriteBytes(const fs::path& path, const std::string& bytes) {
+  std::ofstream(path, std::ios::binary) << bytes;
+}
+
+TEST(VocabularyReader, RefusesAFifoAFolderAndADevice) {
+  const TempDir tmp;
+  test::MakeFifo(tmp / "v.vocab");
+  ExpectAll(RefusalOf<InputError>([&] { Vocabulary::Load(tmp / "v.vocab"); }, 10, tmp / "v.vocab"),
+            {"vocabulary", "v.vocab", "FIFO"});
+  fs::create_directory(tmp / "d.vocab");
+  ExpectAll(RefusalOf<InputError>([&] { Vocabulary::Load(tmp / "d.vocab"); }), {"d.vocab", "folder"});
+  ExpectAll(RefusalOf<InputError>([&] { Vocabulary::Load("/dev/zero"); }), {"/dev/zero", "device"});
+}
+
+TEST(VocabularyReader, AHugeFileOfAnotherKindIsRefusedFromItsHeader) {
+  const TempDir tmp;
+  test::MakeSparse(tmp / "zeros.vocab", 3ull << 29);
+  const auto started = std::chrono::steady_clock::now();
+  ExpectAll(RefusalOf<InputError>([&] { Vocabulary::Load(tmp / "zeros.vocab"); }),
+            {"zeros.vocab", "no SGVOCAB header"});
+  EXPECT_LT(std::chrono::steady_clock::now() - started, std::chrono::seconds(1));
+}
+
+TEST(VocabularyReader, AHeaderClaimingMoreNodesThanTheFileHoldsIsRefused) {
+  const TempDir tmp;
+  std::string bytes = ValidVocabulary();
+  ASSERT_GT(bytes.size(), 100u);
+  const std::uint32_t count = 50'000'000;  // within the bound, 1.9 GB of nodes
+  std::memcpy(bytes.data() + 20, &count, sizeof count);
+  WriteBytes(tmp / "lies.vocab", bytes);
+  ExpectAll(RefusalOf<InputError>([&] { Vocabulary::Load(tmp / "lies.vocab"); }),
+            {"lies.vocab", std::to_string(bytes.size()) + " bytes, expected 1900000096", "50000000 nodes"});
+  const std::uint32_t beyond = 0xFFFFFFFFu;
+  std::memcpy(bytes.data() + 20, &beyond, sizeof beyond);
+  WriteBytes(tmp / "beyond.vocab", bytes);
+  ExpectAll(RefusalOf<InputError>([&] { Vocabulary::Load(tmp / "beyond.vocab"); }),
+            {"beyond.vocab", "node count 4294967295 out of range"});
+  WriteBytes(tmp / "ok.vocab", ValidVocabulary());
+  EXPECT_GT(Vocabulary::Load(tmp / "ok.vocab").size(), 0u);
+}
+
+}  // namespace
+}  // namespace sgslam::vocab
