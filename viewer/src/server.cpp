@@ -397,7 +397,9 @@ Server::Server(ServerOptions options, Source& source) : impl_(std::make_unique<I
   m.hosts_text = std::string(address.is_loopback() ? "loopback hosts (127.0.0.1, localhost, [::1])"
                                                    : "IP addresses and loopback hosts") +
                  " with port " + std::to_string(m.port);
-  for (const std::string& o : m.options.allowed_origins) m.hosts_text += ", " + o + "'s";
+  for (std::size_t i = 0; i < m.options.allowed_origins.size(); ++i) {
+    m.hosts_text += (i == 0 ? ", and the hosts of " : ", ") + m.options.allowed_origins[i];
+  }
   m.Accept();
   m.thread = std::thread([&m] {
     NameThisThread("sg-viewer");
