@@ -34,6 +34,10 @@ namespace {
 constexpr std::size_t kMaxRequestBytes = 8 * 1024;  // an HTTP request's header and body
 constexpr std::size_t kMaxPageMessage = 1024;       // what the page sends is a line of JSON
 constexpr auto kHttpTimeout = std::chrono::seconds(30);
+// A page that neither sends nor answers a ping for this long is gone (a laptop shut,
+// a network lost: no FIN comes) and its connection closed, ending its pause. A
+// browser answers pings even for a page in the background.
+constexpr auto kPageIdleTimeout = std::chrono::seconds(20);
 
 const char* ContentType(const std::filesystem::path& p) {
   const std::string e = p.extension().string();
@@ -126,7 +130,10 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
       : ws_(std::move(socket)), server_(server), page_(++server.pages_opened) {}
 
   void Start(http::request<http::string_body> request) {
-    ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
+    auto timeout = websocket::stream_base::timeout::suggested(beast::role_type::server);
+    timeout.idle_timeout = kPageIdleTimeout;
+    timeout.keep_alive_pings = true;
+    ws_.set_option(timeout);
     ws_.read_message_max(kMaxPageMessage);
     ws_.binary(true);
     ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
