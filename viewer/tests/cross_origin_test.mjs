@@ -45,7 +45,9 @@ ws.onopen = () => {
 };
 ws.onmessage = () => { probe.messages++; };
 ws.onclose = () => { probe.closed = true; };
-if (q.has('fetch')) fetch(q.get('fetch')).then((r) => { probe.fetched = r.status; }, (e) => { probe.fetched = String(e); });
+if (q.has('fetch')) {
+  fetch(q.get('fetch')).then((r) => { probe.fetched = r.status; }, (e) => { probe.fetched = String(e); });
+}
 </script>`;
 const elsewhere = http.createServer((req, res) => {
   res.writeHead(200, { 'Content-Type': 'text/html; charset=utf-8' });
@@ -70,7 +72,8 @@ try {
         `a page from another server on this machine: its WebSocket was refused (${JSON.stringify(other)})`);
   const rebindingUrl = `http://evil.example:${port}/rebind.html`;
   const rebinding = await probe(`${rebindingUrl}?ws=ws://evil.example:${port}/ws&fetch=/index.html`, rebindingUrl);
-  check(rebinding.fetched === 403, `a DNS-rebinding page reached the viewer, which refused its Host (${rebinding.fetched})`);
+  check(rebinding.fetched === 403,
+        `a DNS-rebinding page reached the viewer, which refused its Host (${rebinding.fetched})`);
   check(!rebinding.opened && rebinding.messages === 0,
         `a DNS-rebinding page: its WebSocket was refused (${JSON.stringify(rebinding)})`);
 
@@ -123,7 +126,8 @@ try {
   const named = await browser.newPage();
   const namedErrors = collectErrors(named);
   await named.goto(`http://viewer.example:${port}/`);
-  await named.waitForFunction(() => window.sgslamViewer && window.sgslamViewer.drawnMaps >= 1, null, { timeout: 30000 });
+  await named.waitForFunction(() => window.sgslamViewer && window.sgslamViewer.drawnMaps >= 1, null,
+                              { timeout: 30000 });
   const v = await named.evaluate(() => window.sgslamViewer);
   check(v.mapPoints > 0 && namedErrors.length === 0,
         `view --origin: the page at http://viewer.example:${port}/ drew the map (${v.mapPoints} points; ` +

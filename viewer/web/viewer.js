@@ -13,9 +13,9 @@ const LABEL_COLOURS = ['#3ddc84', '#ff4d4d', '#ffd23d'];  // kept, rejected, unj
 const STATE_NAMES = { ok: 'tracking', lost: 'lost', not_initialized: 'initialising' };
 
 // What the tests read (viewer/tests): counts of what arrived and was drawn.
-const state = { info: null, paused: false, frames: 0, maps: 0, frame: null, mapPoints: 0, cloudPoints: 0, pieces: 0,
+const state = { info: null, frames: 0, maps: 0, frame: null, mapPoints: 0, cloudPoints: 0, pieces: 0,
                 objects: 0, keyframes: 0, cells: 0, cellsVersion: 0, cellsDrawn: 0, truthPoints: 0, renders: 0, errors: [],
-                drawnMaps: 0 };
+                drawnMaps: 0, paused: false };
 window.sgslamViewer = state;
 // For the tests: the share of the 3-D view's pixels unlike the background, read in
 // the same task as a drawing (the drawing buffer is not kept after it is shown).
