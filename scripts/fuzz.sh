@@ -9,10 +9,11 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-ALL=(tum_lists trajectory detections config vocabulary map)
+ALL=(tum_lists trajectory detections config vocabulary map ply run_files)
 # Bytes per input: a few times the largest seed, so the lists stay short enough
 # that every input runs in milliseconds.
-declare -A MAX_LEN=([tum_lists]=8192 [trajectory]=4096 [detections]=4096 [config]=16384 [vocabulary]=8192 [map]=16384)
+declare -A MAX_LEN=([tum_lists]=8192 [trajectory]=4096 [detections]=4096 [config]=16384 [vocabulary]=8192 [map]=16384
+                    [ply]=4096 [run_files]=8192)
 
 seconds=600
 targets=()

@@ -3,6 +3,7 @@
 // payload, so a FIFO, a device, a huge file of another kind or a header claiming a
 // huge payload is refused at once, naming the file.
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 
 #include <chrono>
 #include <cstring>
@@ -69,6 +70,26 @@ TEST(MapFileReader, AHeaderClaimingAHugePayloadIsRefusedBeforeReadingIt) {
   bytes[8] = 9;
   WriteBytes(tmp / "v9.map", bytes);
   ExpectAll(RefusalOf<InputError>([&] { ReadMapFile(tmp / "v9.map"); }), {"v9.map", "format version 9"});
+}
+
+// The peak resident memory of this process so far, in MiB.
+double PeakMiB() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;
+}
+
+TEST(MapFileReader, AHeaderThatFitsGigabytesOfZerosIsRefusedWithoutHoldingThem) {
+  const TempDir tmp;
+  std::string header = ValidMap().substr(0, 52);
+  const std::uint64_t size = 512ull << 20;
+  const std::uint64_t payload = size - 52;
+  std::memcpy(header.data() + 12, &payload, sizeof payload);
+  WriteBytes(tmp / "zeros.map", header);
+  fs::resize_file(tmp / "zeros.map", size);
+  const double before = PeakMiB();
+  ExpectAll(RefusalOf<InputError>([&] { ReadMapFile(tmp / "zeros.map"); }, 60), {"zeros.map", "checksum mismatch"});
+  EXPECT_LT(PeakMiB() - before, 64) << "the payload was held before its checksum was checked";
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // size, so a FIFO, a device, a huge file of another kind or a header claiming
 // millions of nodes is refused at once, naming the file.
 #include <gtest/gtest.h>
+#include <sys/resource.h>
 
 #include <chrono>
 #include <cstring>
@@ -65,6 +66,21 @@ TEST(VocabularyReader, AHeaderClaimingMoreNodesThanTheFileHoldsIsRefused) {
             {"beyond.vocab", "node count 4294967295 out of range"});
   WriteBytes(tmp / "ok.vocab", ValidVocabulary());
   EXPECT_GT(Vocabulary::Load(tmp / "ok.vocab").size(), 0u);
+}
+
+TEST(VocabularyReader, AHeaderThatFitsGigabytesOfZerosIsRefusedWithoutHoldingThem) {
+  const TempDir tmp;
+  std::string header = ValidVocabulary().substr(0, 32);
+  const std::uint32_t count = 14'000'000;  // 532 MB of nodes
+  std::memcpy(header.data() + 20, &count, sizeof count);
+  WriteBytes(tmp / "zeros.vocab", header);
+  fs::resize_file(tmp / "zeros.vocab", 32 + std::uint64_t{count} * 38 + 64);
+  rusage before{}, after{};
+  getrusage(RUSAGE_SELF, &before);
+  ExpectAll(RefusalOf<InputError>([&] { Vocabulary::Load(tmp / "zeros.vocab"); }, 60),
+            {"zeros.vocab", "checksum mismatch"});
+  getrusage(RUSAGE_SELF, &after);
+  EXPECT_LT(after.ru_maxrss - before.ru_maxrss, 64 * 1024) << "KiB: the body was held before its checksum was checked";
 }
 
 }  // namespace

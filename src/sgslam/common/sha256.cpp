@@ -2,20 +2,19 @@
 
 #include <openssl/evp.h>
 
+#include <algorithm>
 #include <array>
 #include <cctype>
+#include <memory>
 
 #include "sgslam/common/error.h"
 #include "sgslam/common/regular_file.h"
 
 namespace sgslam {
 
-std::string Sha256Hex(std::string_view bytes) {
-  std::array<unsigned char, EVP_MAX_MD_SIZE> digest{};
-  unsigned int length = 0;
-  if (EVP_Digest(bytes.data(), bytes.size(), digest.data(), &length, EVP_sha256(), nullptr) != 1) {
-    throw Error("OpenSSL could not compute a SHA-256 digest");
-  }
+namespace {
+
+std::string Hex(const unsigned char* digest, unsigned int length) {
   static constexpr char kHex[] = "0123456789abcdef";
   std::string hex;
   hex.reserve(2 * length);
@@ -24,6 +23,33 @@ std::string Sha256Hex(std::string_view bytes) {
     hex += kHex[digest[i] & 15];
   }
   return hex;
+}
+
+[[noreturn]] void Unavailable() { throw Error("OpenSSL could not compute a SHA-256 digest"); }
+
+}  // namespace
+
+std::string Sha256Hex(std::string_view bytes) {
+  std::array<unsigned char, EVP_MAX_MD_SIZE> digest{};
+  unsigned int length = 0;
+  if (EVP_Digest(bytes.data(), bytes.size(), digest.data(), &length, EVP_sha256(), nullptr) != 1) Unavailable();
+  return Hex(digest.data(), length);
+}
+
+std::string Sha256HexOfFile(const RegularFile& file, std::uint64_t offset, std::uint64_t n) {
+  const std::unique_ptr<EVP_MD_CTX, void (*)(EVP_MD_CTX*)> context(EVP_MD_CTX_new(), EVP_MD_CTX_free);
+  if (!context || EVP_DigestInit_ex(context.get(), EVP_sha256(), nullptr) != 1) Unavailable();
+  std::string piece;
+  for (std::uint64_t done = 0; done < n;) {
+    piece.resize(static_cast<std::size_t>(std::min<std::uint64_t>(n - done, 1 << 20)));
+    file.ReadInto(offset + done, piece);
+    if (EVP_DigestUpdate(context.get(), piece.data(), piece.size()) != 1) Unavailable();
+    done += piece.size();
+  }
+  std::array<unsigned char, EVP_MAX_MD_SIZE> digest{};
+  unsigned int length = 0;
+  if (EVP_DigestFinal_ex(context.get(), digest.data(), &length) != 1) Unavailable();
+  return Hex(digest.data(), length);
 }
 
 namespace {

@@ -160,12 +160,13 @@ namespace {
 constexpr char kMagic[8] = {'S', 'G', 'M', 'A', 'P', '\0', '\0', '\0'};
 constexpr std::size_t kHeaderBytes = 8 + 4 + 8 + 32;
 
-std::string Sha256Bytes(const std::string& bytes) {
-  const std::string hex = Sha256Hex(bytes);
+std::string RawFromHex(const std::string& hex) {
   std::string raw(32, '\0');
   for (std::size_t i = 0; i < 32; ++i) raw[i] = static_cast<char>(std::stoi(hex.substr(2 * i, 2), nullptr, 16));
   return raw;
 }
+
+std::string Sha256Bytes(const std::string& bytes) { return RawFromHex(Sha256Hex(bytes)); }
 
 [[noreturn]] void Fail(const std::string& what, const std::string& why) {
   throw InputError("map file " + what + ": " + why);
@@ -234,8 +235,10 @@ class PayloadBuffer : public std::streambuf {
   }
 };
 
-MapData DecodePayload(const std::string& payload, const Header& h, const std::string& what) {
-  if (Sha256Bytes(payload) != h.checksum) Fail(what, "checksum mismatch (the file is corrupt)");
+[[noreturn]] void ChecksumMismatch(const std::string& what) { Fail(what, "checksum mismatch (the file is corrupt)"); }
+
+// The payload, whose checksum the caller has checked.
+MapData DecodePayload(const std::string& payload, const std::string& what) {
   MapData data;
   try {
     PayloadBuffer buffer(payload);
@@ -261,7 +264,9 @@ MapData DecodePayload(const std::string& payload, const Header& h, const std::st
 
 MapData Decode(const std::string& bytes, const std::string& what) {
   const Header h = ParseHeader(bytes, bytes.size(), what);
-  return DecodePayload(bytes.substr(kHeaderBytes), h, what);
+  std::string payload = bytes.substr(kHeaderBytes);
+  if (Sha256Bytes(payload) != h.checksum) ChecksumMismatch(what);
+  return DecodePayload(payload, what);
 }
 
 void WriteMapFile(const std::filesystem::path& path, const MapData& data) {
@@ -280,8 +285,10 @@ MapData ReadMapFile(const std::filesystem::path& path) {
   if (pages > 0 && page > 0 && h.payload_bytes > static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page)) {
     Fail(path.string(), std::to_string(h.payload_bytes) + " bytes of map, more than this machine's memory");
   }
-  const std::string payload = file.Read(kHeaderBytes, static_cast<std::size_t>(h.payload_bytes));
-  return DecodePayload(payload, h, path.string());
+  // The checksum before the payload is held: a header that fits the file's size
+  // says nothing of what follows it (gigabytes of zeros, say).
+  if (RawFromHex(Sha256HexOfFile(file, kHeaderBytes, h.payload_bytes)) != h.checksum) ChecksumMismatch(path.string());
+  return DecodePayload(file.Read(kHeaderBytes, static_cast<std::size_t>(h.payload_bytes)), path.string());
 }
 
 namespace {

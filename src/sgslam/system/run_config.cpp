@@ -18,8 +18,7 @@ fs::path ResolveConfigPath(const fs::path& config) {
   if (config.has_parent_path()) {
     // A folder (or a device) would reach the YAML reader, whose stream error names no file.
     if (fs::exists(config, ec)) {
-      throw ConfigError("config file " + config.string() + " is " +
-                        (fs::is_directory(config, ec) ? "a folder" : "not a regular file"));
+      throw ConfigError("config file " + config.string() + " " + WhyNotRegularFile(config));
     }
     return config;
   }

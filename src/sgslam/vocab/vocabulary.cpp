@@ -6,7 +6,6 @@
 #include <cstdio>
 #include <cstring>
 #include <iterator>
-#include <string_view>
 #include <limits>
 #include <map>
 
@@ -160,11 +159,13 @@ Vocabulary Vocabulary::Load(const std::filesystem::path& file) {
   const std::string what = "vocabulary " + file.string();
   const RegularFile in(file, "vocabulary");
   const Header h = ReadHeader(in, what);
-  const std::string bytes = in.Read(0, static_cast<std::size_t>(in.size()));
-  const std::size_t body = bytes.size() - kChecksumChars;
-  if (Sha256Hex(std::string_view(bytes).substr(0, body)) != std::string_view(bytes).substr(body)) {
+  // The checksum before the body is held: a header that fits the file's size says
+  // nothing of what follows it.
+  const std::uint64_t body = in.size() - kChecksumChars;
+  if (Sha256HexOfFile(in, 0, body) != in.Read(body, kChecksumChars)) {
     throw InputError(what + ": checksum mismatch (the file is corrupt)");
   }
+  const std::string bytes = in.Read(0, static_cast<std::size_t>(body));
   std::vector<Node> nodes(h.count);
   std::size_t at = kHeaderBytes;
   for (Node& n : nodes) {
