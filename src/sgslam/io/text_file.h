@@ -30,6 +30,13 @@ double ParseNumber(std::string_view token, const std::filesystem::path& path, in
 // Writes to a new uniquely named file beside path (created exclusively, so a
 // planted link is never followed) and renames it over path, so readers see the old
 // or the new file, never a torn one; the temporary file is removed on failure. Throws InputError naming the path on failure.
+// The temporary files of path that a killed writer left are removed first
+// (RemoveStaleTempFiles).
 void WriteFileAtomically(const std::filesystem::path& path, const std::string& content);
+
+// Removes the files "<path>.tmp.<pid>.<suffix>" (the temporary names of the writers
+// of path) whose writer is gone: no process <pid>, or one started after the file
+// was last written (the id reused). Only SIGKILL or a power cut leaves them.
+void RemoveStaleTempFiles(const std::filesystem::path& path);
 
 }  // namespace sgslam

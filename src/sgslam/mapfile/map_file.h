@@ -15,12 +15,14 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <string_view>
 
 #include "sgslam/mapfile/map_data.h"
 
 namespace sgslam::mapfile {
 
 inline constexpr std::uint32_t kFormatVersion = 1;
+inline constexpr std::string_view kFileMagic{"SGMAP\0\0\0", 8};  // the first bytes of every map file
 
 // The file's bytes (header and payload).
 std::string Encode(const MapData& data);

@@ -21,6 +21,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <opencv2/core.hpp>
@@ -30,6 +31,7 @@
 namespace sgslam::vocab {
 
 constexpr std::uint32_t kVocabularyVersion = 1;
+inline constexpr std::string_view kFileMagic{"SGVOCAB\0", 8};  // the first bytes of every vocabulary file
 constexpr int kDescriptorBytes = 32;
 
 class Vocabulary {
