@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,7 @@
 #include "sgslam/common/stats.h"
 #include "sgslam/features/orb_extractor.h"
 #include "sgslam/io/image_file.h"
+#include "sgslam/io/output_plan.h"
 #include "sgslam/io/text_file.h"
 #include "sgslam/vocab/training.h"
 
@@ -95,6 +97,21 @@ std::vector<cv::Mat> ExtractAll(const std::vector<fs::path>& paths, int features
   return out;
 }
 
+// --out neither over a list nor among the images it reads, and over an existing
+// file only when that is a vocabulary.
+void CheckTrainOutput(const VocabArgs& a, const std::vector<fs::path>& images) {
+  OutputPlan plan;
+  std::set<fs::path> folders;
+  for (const std::string& source : a.images) {
+    if (fs::is_directory(source)) folders.insert(source);
+    else plan.Reads(source, "the image list given with --images");
+  }
+  for (const fs::path& image : images) folders.insert(image.parent_path());
+  for (const fs::path& folder : folders) plan.ReadsFolder(folder, "a folder of the training images");
+  plan.Writes(a.out, "--out", std::string(vocab::kFileMagic));
+  plan.Check();
+}
+
 int RunTrain(const VocabArgs& a) {
   if (a.every < 1) throw InputError("--every must be at least 1, got " + std::to_string(a.every));
   std::vector<fs::path> paths;
@@ -102,6 +119,7 @@ int RunTrain(const VocabArgs& a) {
     const std::vector<fs::path> all = ImagesOf(source);
     for (std::size_t i = 0; i < all.size(); i += static_cast<std::size_t>(a.every)) paths.push_back(all[i]);
   }
+  CheckTrainOutput(a, paths);
   spdlog::info("vocab: ORB features of {} images", paths.size());
   const std::vector<cv::Mat> descriptors = ExtractAll(paths, a.features);
   std::size_t total = 0;

@@ -403,6 +403,8 @@ def main():
     import fault_cases
     import fault_cases_inputs  # noqa: F401 (registers its cases)
     import fault_cases_stops  # noqa: F401
+    import fault_cases_paths  # noqa: F401
+    import fault_cases_readers  # noqa: F401
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     here = os.path.dirname(os.path.abspath(__file__))
     p.add_argument("--sgslam", default=os.path.join(here, "..", "build", "sgslam"), help="the program to test")
