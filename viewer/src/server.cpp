@@ -36,8 +36,10 @@ constexpr std::size_t kMaxPageMessage = 1024;       // what the page sends is a 
 constexpr auto kHttpTimeout = std::chrono::seconds(30);
 // A page that neither sends nor answers a ping for this long is gone (a laptop shut,
 // a network lost: no FIN comes) and its connection closed, ending its pause. A
-// browser answers pings even for a page in the background.
-constexpr auto kPageIdleTimeout = std::chrono::seconds(20);
+// browser answers pings even for a page in the background, but not while a
+// message to it is still being written, when the page sends nothing either: the
+// time is long enough for a whole live map (up to 8 MB) over a 1 Mbit/s link.
+constexpr auto kPageIdleTimeout = std::chrono::seconds(60);
 
 const char* ContentType(const std::filesystem::path& p) {
   const std::string e = p.extension().string();
