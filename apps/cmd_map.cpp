@@ -21,8 +21,10 @@ Action AddMapCommand(CLI::App& root) {
     const Stopwatch watch;
     const mapfile::MapData data = mapfile::ReadMapFile(*file);
     const double ms = watch.ElapsedMs();
-    std::printf("%s: %.1f MB, read and checked in %.0f ms\n%s", file->c_str(),
-                static_cast<double>(std::filesystem::file_size(*file)) / 1e6, ms, mapfile::Describe(data).c_str());
+    std::error_code ec;  // the file read a moment ago: a size gone meanwhile is no error of the map's
+    const std::uintmax_t bytes = std::filesystem::file_size(*file, ec);
+    std::printf("%s: %.1f MB, read and checked in %.0f ms\n%s", file->c_str(), ec ? 0.0 : static_cast<double>(bytes) / 1e6,
+                ms, mapfile::Describe(data).c_str());
     return kExitOk;
   };
 }

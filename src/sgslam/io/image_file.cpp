@@ -99,6 +99,8 @@ cv::Mat DecodeImageFile(const std::filesystem::path& path, const std::vector<std
     m = cv::imdecode(bytes, flags);
   } catch (const cv::Exception& e) {  // OpenCV refusing it (a header claiming 60000x60000 pixels, say)
     throw InputError("cannot read image " + path.string() + ": " + e.err);
+  } catch (const std::exception& e) {  // a format whose header is not read here, claiming more than memory holds
+    throw InputError("cannot read image " + path.string() + ": " + e.what());
   }
   if (m.empty()) throw InputError("cannot read image (corrupt or not an image): " + path.string());
   return m;
