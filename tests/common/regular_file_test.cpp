@@ -122,6 +122,8 @@ TEST(OptionalRegularFile, AbsentIsNothingButAnythingElseIsAnError) {
             {"associations.txt", "folder"});
   EXPECT_EQ(WhyNotRegularFile(tmp / "groundtruth.txt"), "");
   EXPECT_EQ(WhyNotRegularFile(tmp / "nope"), "not found");
+  // Below a file: nothing there, not an error (a dataset "folder" that is a file).
+  EXPECT_FALSE(OptionalRegularFile(tmp / "groundtruth.txt" / "sgslam.yaml", "dataset config"));
 }
 
 }  // namespace

@@ -37,7 +37,8 @@ std::string WhyNotRegularFile(const std::filesystem::path& path) {
     const int error = errno;
     struct stat link {};
     if (error == ENOENT && lstat(path.c_str(), &link) == 0) return "is a broken symbolic link";
-    return error == ENOENT ? std::string(kNotFound) : std::strerror(error);
+    // ENOTDIR: a folder on the way is a file ("run.txt/sgslam.yaml"), so nothing is there.
+    return error == ENOENT || error == ENOTDIR ? std::string(kNotFound) : std::strerror(error);
   }
   return S_ISREG(st.st_mode) ? "" : KindOf(st.st_mode);
 }
