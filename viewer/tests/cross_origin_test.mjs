@@ -27,6 +27,9 @@ const browser = await launchChromium(args.chromium, [
   '--host-resolver-rules=MAP evil.example 127.0.0.1, MAP viewer.example 127.0.0.1',
   '--disable-features=BlockInsecurePrivateNetworkRequests,PrivateNetworkAccessSendPreflights,' +
     'PrivateNetworkAccessRespectPreflightResults,LocalNetworkAccessChecks']);
+// Waits until fn(arg) holds in page, polled rather than at the page's animation
+// frames: a page in the background (the own page while a probe is open) may draw none.
+const until = (page, fn, arg, timeout) => page.waitForFunction(fn, arg, { timeout, polling: 100 });
 const work = args.work;
 rmSync(work, { recursive: true, force: true });
 mkdirSync(work, { recursive: true });
@@ -65,7 +68,7 @@ try {
   const ownErrors = collectErrors(own);
   await own.goto(url);
   const ownIndex = () => own.evaluate(() => window.sgslamViewer.frame.index);
-  await own.waitForFunction(() => window.sgslamViewer && window.sgslamViewer.frames >= 3, null, { timeout: 60000 });
+  await until(own, () => window.sgslamViewer && window.sgslamViewer.frames >= 3, null, 60000);
 
   const other = await probe(`http://127.0.0.1:${elsewhere.address().port}/?ws=ws://127.0.0.1:${port}/ws`);
   check(!other.opened && other.messages === 0,
@@ -78,8 +81,8 @@ try {
         `a DNS-rebinding page: its WebSocket was refused (${JSON.stringify(rebinding)})`);
 
   const after = await ownIndex();
-  await own.waitForFunction((i) => window.sgslamViewer.frame.index >= i + 15 && !window.sgslamViewer.frame.paused,
-                           after, { timeout: 30000 });
+  await until(own, (i) => window.sgslamViewer.frame.index >= i + 15 && !window.sgslamViewer.frame.paused,
+              after, 30000);
   const later = await ownIndex();
   check(later >= after + 15, `the run went on, not paused: frames ${after + 1} to ${later + 1} on the own page`);
   check(/refused a WebSocket from a page at 'http:\/\/127\.0\.0\.1:\d+'/.test(run.log()) &&
@@ -87,22 +90,21 @@ try {
 
   // A pause ends with the page that held it.
   await own.click('#b-pause');
-  await own.waitForFunction(() => window.sgslamViewer.paused === true, null, { timeout: 10000 });
+  await until(own, () => window.sgslamViewer.paused === true, null, 10000);
   const held = await ownIndex();
   check(ownErrors.length === 0, `no error in the own page's console (${ownErrors.join('; ')})`);
   await own.close();
   const next = await browser.newPage({ viewport: { width: 1280, height: 720 } });
   const nextErrors = collectErrors(next);
   await next.goto(url);
-  await next.waitForFunction((i) => window.sgslamViewer && window.sgslamViewer.frame &&
-                                    window.sgslamViewer.frame.index >= i + 15 && !window.sgslamViewer.paused,
-                             held, { timeout: 30000 });
+  await until(next, (i) => window.sgslamViewer && window.sgslamViewer.frame &&
+                           window.sgslamViewer.frame.index >= i + 15 && !window.sgslamViewer.paused,
+              held, 30000);
   check(/the last page that held the pause has closed/.test(run.log()),
         `the pause (at frame ${held + 1}) ended when its page closed: a new page sees the run go on`);
   check(nextErrors.length === 0, `no error in the new page's console (${nextErrors.join('; ')})`);
   if (args.screenshot) {
-    await next.waitForFunction(() => window.sgslamViewer.maps >= 2 && window.sgslamViewer.drawnMaps >= 2, null,
-                               { timeout: 30000 });
+    await until(next, () => window.sgslamViewer.maps >= 2 && window.sgslamViewer.drawnMaps >= 2, null, 30000);
     await next.screenshot({ path: args.screenshot });
     console.log(`screenshot: ${args.screenshot}`);
   }
@@ -126,8 +128,7 @@ try {
   const named = await browser.newPage();
   const namedErrors = collectErrors(named);
   await named.goto(`http://viewer.example:${port}/`);
-  await named.waitForFunction(() => window.sgslamViewer && window.sgslamViewer.drawnMaps >= 1, null,
-                              { timeout: 30000 });
+  await until(named, () => window.sgslamViewer && window.sgslamViewer.drawnMaps >= 1, null, 30000);
   const v = await named.evaluate(() => window.sgslamViewer);
   check(v.mapPoints > 0 && namedErrors.length === 0,
         `view --origin: the page at http://viewer.example:${port}/ drew the map (${v.mapPoints} points; ` +
@@ -159,17 +160,19 @@ async function probe(pageUrl, fulfil) {
                      (route) => route.fulfill({ contentType: 'text/html', body: PROBE_PAGE }));
   }
   await page.goto(pageUrl);
-  await page.waitForFunction(() => window.probe.closed && (window.probe.fetched !== null ||
-                                                           !new URLSearchParams(location.search).has('fetch')),
-                             null, { timeout: 20000 });
+  await until(page, () => window.probe.closed &&
+                          (window.probe.fetched !== null || !new URLSearchParams(location.search).has('fetch')),
+              null, 20000);
   const result = await page.evaluate(() => window.probe);
   await page.close();
   return result;
 }
 
-// A synthetic sequence that lasts 20 s at 30 Hz from 60 rendered frames: they are
-// listed forth and back again (the camera goes back and forth), without the ground
-// truth and detections, which the new timestamps no longer match.
+// A synthetic sequence that lasts two minutes at 30 Hz, from 60 rendered frames:
+// they are listed forth and back again (the camera goes back and forth), without
+// the ground truth and detections, which the new timestamps no longer match. The
+// run must outlast the test on a busy machine (the test stops it): with
+// --realtime, its frames follow the clock however slowly it goes.
 function makeSequence(dir) {
   const synth = spawnSync(args.sgslam, ['synth', '--out', dir, '--preset', 'objects', '--frames', '60'],
                           { encoding: 'utf8' });
@@ -179,7 +182,7 @@ function makeSequence(dir) {
     const files = readFileSync(path.join(dir, `${list}.txt`), 'utf8').split('\n')
       .filter((l) => l && !l.startsWith('#')).map((l) => l.split(' ')[1]);
     const lines = [];
-    for (let i = 0; lines.length < 600; i++) {
+    for (let i = 0; lines.length < 3600; i++) {
       const k = i % (2 * files.length - 2);
       const t = (1700000000 + i / 30).toFixed(6);
       lines.push(`${t} ${files[k < files.length ? k : 2 * files.length - 2 - k]}`);
