@@ -9,6 +9,7 @@
 
 #include "commands.h"
 #include "run_pipeline.h"
+#include "run_viewer.h"
 
 namespace sgslam::app {
 
@@ -63,6 +64,13 @@ Action AddRunCommand(CLI::App& root) {
   cmd->add_option("--viewer-address", o->viewer_address,
                   "With --viewer: the address to serve on (default 127.0.0.1: this machine only; another lets "
                   "anyone who can reach it watch and pause the run)")
+      ->needs(viewer);
+  cmd->add_option("--viewer-origin", o->viewer_origins,
+                  "With --viewer: also let pages at ORIGIN (http://HOST[:PORT] or https://HOST[:PORT]; repeatable) "
+                  "open the view, and answer to its host: for a name or a proxy in front of the viewer (default: "
+                  "only the viewer's own page at a loopback or, with --viewer-address, IP address)")
+      ->type_name("ORIGIN")
+      ->check(CLI::Validator(ViewerOriginError, "", "origin"))
       ->needs(viewer);
   return [o, viewer, viewer_text] {
     if (viewer->count() > 0) o->viewer_port = viewer_text->empty() ? kDefaultViewerPort : std::stoi(*viewer_text);

@@ -389,7 +389,7 @@ RunSummary RunSequence(const RunOptions& o) {
                                                         {"mode", config.dynamic.mode},
                                                         {"frames", frames},
                                                         {"pausable", true}},
-                                         std::move(truth));
+                                         std::move(truth), o.viewer_origins);
   }
   TruthScorer truth(o.dataset);
   const Stopwatch wall;

@@ -7,6 +7,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "sgslam/config/config.h"
 
@@ -32,6 +33,7 @@ struct RunOptions {
   // --viewer[=PORT]: the live web viewer (viewer/) on viewer_address; -1: none.
   int viewer_port = -1;
   std::string viewer_address = "127.0.0.1";
+  std::vector<std::string> viewer_origins;  // --viewer-origin: pages elsewhere allowed (a name, a proxy)
   bool print_objects = true;  // the end-of-run object table on stdout
   // Programmatic overrides after the file and the options above (the demo's
   // comparison runs); `tweak_name` is added to the configuration's source.

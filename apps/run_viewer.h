@@ -21,7 +21,7 @@ class RunViewer {
   // origins: pages elsewhere allowed to connect (--viewer-origin; server.h's
   // ServerOptions::allowed_origins).
   RunViewer(SlamSystem& system, const std::string& address, int port, nlohmann::json info, Trajectory truth,
-            std::vector<std::string> origins = {});
+            std::vector<std::string> origins);
   ~RunViewer();
   RunViewer(const RunViewer&) = delete;
   RunViewer& operator=(const RunViewer&) = delete;

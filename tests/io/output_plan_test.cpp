@@ -105,12 +105,12 @@ TEST(OutputPlan, NeverReplacesAFolderFifoOrDevice) {
   ASSERT_EQ(mkfifo((tmp / "fifo.map").c_str(), 0644), 0);
   for (const fs::path& p : {tmp / "folder.map", tmp / "fifo.map"}) {
     OutputPlan plan;
-    plan.Writes(p, "--save-map");
+    plan.Writes(p, "--save-map", "SGMAP");
     const std::string why = Refusal(plan);
     EXPECT_NE(why.find("only a regular file is ever replaced"), std::string::npos) << why;
   }
   OutputPlan device;
-  device.Writes("/dev/null", "--save-map");
+  device.Writes("/dev/null", "--save-map", "SGMAP");
   EXPECT_NE(Refusal(device).find("system folder"), std::string::npos);
 }
 

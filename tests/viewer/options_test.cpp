@@ -24,5 +24,16 @@ TEST(ViewerOptions, AnOriginThatIsNotOneIsABadCommandLine) {
   EXPECT_NE(r.output.find("trajectory.txt"), std::string::npos) << r.output;
 }
 
+TEST(ViewerOptions, RunTakesAllowedOriginsWithTheViewerOnly) {
+  test::TempDir dir;
+  const std::string data = dir.path().string();
+  const auto bad = test::RunSgslam({"run", "--dataset", data, "--viewer=0", "--viewer-origin", "ftp://x"});
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("'ftp://x' is not an origin"), std::string::npos) << bad.output;
+  const auto alone = test::RunSgslam({"run", "--dataset", data, "--viewer-origin", "http://x.example"});
+  EXPECT_EQ(alone.exit_code, 2) << alone.output;
+  EXPECT_NE(alone.output.find("--viewer-origin requires --viewer"), std::string::npos) << alone.output;
+}
+
 }  // namespace
 }  // namespace sgslam

@@ -105,12 +105,15 @@ void OutputPlan::CheckFile(const Entry& w, std::size_t index) const {
                        "): one would replace the other; choose another name");
     }
   }
+  // An output folder's file is the folder's: whatever is under its name is replaced
+  // (a folder there fails that output alone when it is written, as its writer says).
+  if (w.signature.empty()) return;
   struct stat st {};
   if (stat(w.path.c_str(), &st) != 0) return;  // a new file (or a dangling link, replaced)
   if (!S_ISREG(st.st_mode)) {
     throw InputError(what + ": " + WhyNotRegularFile(w.path) + "; only a regular file is ever replaced");
   }
-  if (w.signature.empty() || st.st_size == 0) return;
+  if (st.st_size == 0) return;
   const RegularFile existing(w.path, w.role);
   const std::size_t n = w.signature.size();
   if (existing.size() < n || existing.Read(0, n) != w.signature) {

@@ -28,9 +28,11 @@ class OutputPlan {
   // A folder the command creates (when missing) and writes its outputs into, whose
   // files of those names it may replace.
   void WritesFolder(const std::filesystem::path& folder, const std::string& role);
-  // A file the command writes. When it exists and `signature` is not empty, it is
-  // replaced only if it is empty or begins with those bytes (an earlier output of
-  // the same kind); otherwise any regular file (the output folder's contract).
+  // A file the command writes. When `signature` is not empty (a file an option
+  // names), an existing file is replaced only if it is a regular file that is empty
+  // or begins with those bytes (an earlier output of the same kind). Without one (a
+  // file of an output folder), what is there is the folder's, replaced by the
+  // output (a folder in its place fails that output alone, when it is written).
   void Writes(const std::filesystem::path& file, const std::string& role, const std::string& signature = "");
 
   // Throws InputError naming both paths of the first rule broken.
