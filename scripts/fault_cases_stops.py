@@ -130,7 +130,7 @@ def _(t):
 def _(t):
     saved = t.path("saved.map")
     t.writable.add(saved)
-    t.run(t.dataset(), "--realtime", "--save-map", saved, frames=(BASE_FRAMES, BASE_FRAMES),
+    t.run(t.dataset(), "--realtime", "--every-frame", "--save-map", saved, frames=(BASE_FRAMES, BASE_FRAMES),
           driver=when_log(STARTED, 0.5, SIG.SIGUSR1, SIG.SIGUSR1, gap=0.03))
     check_map(t, saved)
 
