@@ -26,10 +26,6 @@ using test::ExpectAll;
 using test::RefusalOf;
 using test::TempDir;
 
-void WriteBytes(const fs::path& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary) << bytes;
-}
-
 TEST(TextFileReader, RefusesAFifoAFolderAndADevice) {
   const TempDir tmp;
   test::MakeFifo(tmp / "rgb.txt");
@@ -48,7 +44,7 @@ TEST(TextFileReader, BoundsTheFileAndTheLine) {
   ExpectAll(RefusalOf<InputError>([&] { ReadTumTrajectory(tmp / "groundtruth.txt"); }),
             {"groundtruth.txt", "1610612736 bytes", "more than"});
   // A line of 100 KB: no list's, refused when it passes the bound, naming its line.
-  WriteBytes(tmp / "long.txt", "1 2 3 4 5 6 7 1\n" + std::string(100000, '7') + "\n");
+  test::WriteText(tmp / "long.txt", "1 2 3 4 5 6 7 1\n" + std::string(100000, '7') + "\n");
   ExpectAll(RefusalOf<ParseError>([&] { ReadTumTrajectory(tmp / "long.txt"); }), {"long.txt:2", "longer than"});
   EXPECT_LT(std::chrono::steady_clock::now() - started, std::chrono::seconds(2));
 }
@@ -58,23 +54,23 @@ TEST(PlyReader, AHeaderClaimingMorePointsThanTheFileHoldsIsRefusedBeforeAllocati
   const std::string header =
       "ply\nformat binary_little_endian 1.0\nelement vertex 150000000\nproperty float x\nproperty float y\n"
       "property float z\nproperty uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
-  WriteBytes(tmp / "cloud.ply", header + std::string(60, '\0'));
+  test::WriteText(tmp / "cloud.ply", header + std::string(60, '\0'));
   ExpectAll(RefusalOf<InputError>([&] { ReadPlyPoints(tmp / "cloud.ply"); }),
             {"PLY file", "cloud.ply", "claims 150000000 points", "holds 60 bytes"});
   // A count beyond 64 bits, and one that fits but leaves bytes over.
   std::string huge = header;
   huge.replace(huge.find("150000000"), 9, "99999999999999999999999");
-  WriteBytes(tmp / "huge.ply", huge);
+  test::WriteText(tmp / "huge.ply", huge);
   ExpectAll(RefusalOf<InputError>([&] { ReadPlyPoints(tmp / "huge.ply"); }), {"huge.ply", "bad vertex count"});
   std::string padded = header;
   padded.replace(padded.find("150000000"), 9, "2");
-  WriteBytes(tmp / "padded.ply", padded + std::string(31, '\0'));
+  test::WriteText(tmp / "padded.ply", padded + std::string(31, '\0'));
   ExpectAll(RefusalOf<InputError>([&] { ReadPlyPoints(tmp / "padded.ply"); }), {"padded.ply", "2 points (30 bytes)", "holds 31 bytes"});
 }
 
 TEST(PlyReader, RefusesOtherLayoutsAndFilesOfTheWrongKind) {
   const TempDir tmp;
-  WriteBytes(tmp / "faces.ply",
+  test::WriteText(tmp / "faces.ply",
              "ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
              "property float z\nelement face 5\nproperty list uchar int vertex_indices\nend_header\n");
   ExpectAll(RefusalOf<InputError>([&] { ReadPlyPoints(tmp / "faces.ply"); }), {"faces.ply", "unsupported PLY layout"});
@@ -95,7 +91,7 @@ TEST(ImageReader, RefusesAFifoAndAHeaderClaimingTooManyPixels) {
   std::string png((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const char size[8] = {0, 0, '\xEA', '\x60', 0, 0, '\xEA', '\x60'};  // IHDR: 60000 x 60000
   png.replace(16, 8, size, 8);
-  WriteBytes(tmp / "big.png", png);
+  test::WriteText(tmp / "big.png", png);
   ExpectAll(RefusalOf<InputError>([&] { ReadImageFile(tmp / "big.png", "mask", cv::IMREAD_GRAYSCALE, 1 << 20, 1 << 26); }),
             {"mask", "big.png", "60000x60000"});
   EXPECT_EQ(ReadImageFile(tmp / "small.png", "mask", cv::IMREAD_GRAYSCALE, 1 << 20, 1 << 26).rows, 4);

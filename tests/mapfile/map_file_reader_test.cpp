@@ -27,13 +27,9 @@ std::string ValidMap() {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-void WriteBytes(const fs::path& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary) << bytes;
-}
-
 TEST(MapFileReader, ReadsAValidMap) {
   const TempDir tmp;
-  WriteBytes(tmp / "m.map", ValidMap());
+  test::WriteText(tmp / "m.map", ValidMap());
   EXPECT_FALSE(ReadMapFile(tmp / "m.map").keyframes.empty());
 }
 
@@ -61,14 +57,14 @@ TEST(MapFileReader, AHeaderClaimingAHugePayloadIsRefusedBeforeReadingIt) {
   std::string bytes = ValidMap();
   const std::uint64_t claimed = std::uint64_t{1} << 40;
   std::memcpy(bytes.data() + 12, &claimed, sizeof claimed);
-  WriteBytes(tmp / "lies.map", bytes);
+  test::WriteText(tmp / "lies.map", bytes);
   ExpectAll(RefusalOf<InputError>([&] { ReadMapFile(tmp / "lies.map"); }),
             {"lies.map", "the header says 1099511627776 payload bytes", std::to_string(bytes.size() - 52)});
   // A payload of the right size behind a header of another version: the version
   // is refused before the payload is read.
   bytes = ValidMap();
   bytes[8] = 9;
-  WriteBytes(tmp / "v9.map", bytes);
+  test::WriteText(tmp / "v9.map", bytes);
   ExpectAll(RefusalOf<InputError>([&] { ReadMapFile(tmp / "v9.map"); }), {"v9.map", "format version 9"});
 }
 
@@ -85,7 +81,7 @@ TEST(MapFileReader, AHeaderThatFitsGigabytesOfZerosIsRefusedWithoutHoldingThem) 
   const std::uint64_t size = 512ull << 20;
   const std::uint64_t payload = size - 52;
   std::memcpy(header.data() + 12, &payload, sizeof payload);
-  WriteBytes(tmp / "zeros.map", header);
+  test::WriteText(tmp / "zeros.map", header);
   fs::resize_file(tmp / "zeros.map", size);
   const double before = PeakMiB();
   ExpectAll(RefusalOf<InputError>([&] { ReadMapFile(tmp / "zeros.map"); }, 60), {"zeros.map", "checksum mismatch"});

@@ -23,25 +23,21 @@ using test::ExpectAll;
 using test::RefusalOf;
 using test::TempDir;
 
-void WriteBytes(const fs::path& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary) << bytes;
-}
-
 TEST(RunFolderFiles, StatsOfTheWrongJsonTypeAreNamed) {
   const TempDir tmp;
-  WriteBytes(tmp / "stats.json", "[1, 2, 3]");
+  test::WriteText(tmp / "stats.json", "[1, 2, 3]");
   ExpectAll(RefusalOf<InputError>([&] { ReadRunStats(tmp / "stats.json"); }), {"stats.json", "a JSON array, not"});
-  WriteBytes(tmp / "stats.json", "42");
+  test::WriteText(tmp / "stats.json", "42");
   ExpectAll(RefusalOf<InputError>([&] { ReadRunStats(tmp / "stats.json"); }), {"stats.json", "a JSON number"});
-  WriteBytes(tmp / "stats.json", R"({"dataset": 5, "mode": "sg"})");
+  test::WriteText(tmp / "stats.json", R"({"dataset": 5, "mode": "sg"})");
   ExpectAll(RefusalOf<InputError>([&] { ReadRunStats(tmp / "stats.json"); }), {"stats.json", "'dataset' must be"});
-  WriteBytes(tmp / "stats.json", R"({"dataset": "/d/seq", "frames": "many"})");
+  test::WriteText(tmp / "stats.json", R"({"dataset": "/d/seq", "frames": "many"})");
   ExpectAll(RefusalOf<InputError>([&] { ReadRunStats(tmp / "stats.json"); }), {"stats.json", "'frames' must be a count"});
-  WriteBytes(tmp / "stats.json", R"({"mode": "sg", "frames": -3})");
+  test::WriteText(tmp / "stats.json", R"({"mode": "sg", "frames": -3})");
   ExpectAll(RefusalOf<InputError>([&] { ReadRunStats(tmp / "stats.json"); }), {"'frames' must be a count"});
-  WriteBytes(tmp / "stats.json", "{\"mode\": \"\xff\xfe\"}");  // not UTF-8, which JSON text must be
+  test::WriteText(tmp / "stats.json", "{\"mode\": \"\xff\xfe\"}");  // not UTF-8, which JSON text must be
   ExpectAll(RefusalOf<InputError>([&] { ReadRunStats(tmp / "stats.json"); }), {"stats.json", "not valid JSON"});
-  WriteBytes(tmp / "stats.json", R"({"dataset": "/d/seq", "mode": "sg", "frames": 12, "other": [1]})");
+  test::WriteText(tmp / "stats.json", R"({"dataset": "/d/seq", "mode": "sg", "frames": 12, "other": [1]})");
   const RunStatsInfo info = ReadRunStats(tmp / "stats.json");
   EXPECT_EQ(info.dataset, "/d/seq");
   EXPECT_EQ(info.mode, "sg");
@@ -50,13 +46,13 @@ TEST(RunFolderFiles, StatsOfTheWrongJsonTypeAreNamed) {
 
 TEST(RunFolderFiles, ObjectsOfTheWrongJsonTypeAreNamed) {
   const TempDir tmp;
-  WriteBytes(tmp / "objects.json", "[]");
+  test::WriteText(tmp / "objects.json", "[]");
   ExpectAll(RefusalOf<InputError>([&] { ReadRunObjects(tmp / "objects.json"); }), {"objects.json", "a JSON array"});
-  WriteBytes(tmp / "objects.json", R"({"objects": {"class": "cup"}})");
+  test::WriteText(tmp / "objects.json", R"({"objects": {"class": "cup"}})");
   ExpectAll(RefusalOf<InputError>([&] { ReadRunObjects(tmp / "objects.json"); }), {"'objects' must be a list"});
-  WriteBytes(tmp / "objects.json", R"({"objects": [{"class": 3, "confidence": 1, "centroid": [0,0,0], "size": [1,1,1]}]})");
+  test::WriteText(tmp / "objects.json", R"({"objects": [{"class": 3, "confidence": 1, "centroid": [0,0,0], "size": [1,1,1]}]})");
   ExpectAll(RefusalOf<InputError>([&] { ReadRunObjects(tmp / "objects.json"); }), {"objects.json: object 1"});
-  WriteBytes(tmp / "objects.json", "{not json");
+  test::WriteText(tmp / "objects.json", "{not json");
   ExpectAll(RefusalOf<InputError>([&] { ReadRunObjects(tmp / "objects.json"); }), {"objects.json", "not valid JSON"});
 }
 
@@ -72,7 +68,7 @@ std::string OctoMapBytes() {
 
 TEST(RunFolderFiles, AWholeOctoMapIsRead) {
   const TempDir tmp;
-  WriteBytes(tmp / "octomap.bt", OctoMapBytes());
+  test::WriteText(tmp / "octomap.bt", OctoMapBytes());
   EXPECT_EQ(ReadOccupiedCells(tmp / "octomap.bt").size(), 5u * 4u);
 }
 
@@ -80,7 +76,7 @@ TEST(RunFolderFiles, AnOctoMapWhoseTreeLiesIsRefusedBeforeOctoMapReadsIt) {
   const TempDir tmp;
   const std::string whole = OctoMapBytes();
   const auto refusal = [&](const std::string& bytes) {
-    WriteBytes(tmp / "octomap.bt", bytes);
+    test::WriteText(tmp / "octomap.bt", bytes);
     return RefusalOf<InputError>([&] { ReadOccupiedCells(tmp / "octomap.bt"); });
   };
   ExpectAll(refusal(whole.substr(0, whole.size() - 3)), {"octomap.bt", "cut short"});
@@ -101,7 +97,7 @@ TEST(RunFolderSource, AFileOfTheWrongKindOrALyingCloudIsNamed) {
   const TempDir tmp;
   test::WriteText(tmp / "trajectory.txt", "1.0 0 0 0 0 0 0 1\n2.0 0.1 0 0 0 0 0 1\n");
   EXPECT_NO_THROW(RunFolderSource source(tmp.path()));
-  WriteBytes(tmp / "cloud.ply",
+  test::WriteText(tmp / "cloud.ply",
              "ply\nformat binary_little_endian 1.0\nelement vertex 150000000\nproperty float x\n"
              "property float y\nproperty float z\nend_header\n" + std::string(100, '\0'));
   ExpectAll(RefusalOf<InputError>([&] { RunFolderSource source(tmp.path()); }),
@@ -111,7 +107,7 @@ TEST(RunFolderSource, AFileOfTheWrongKindOrALyingCloudIsNamed) {
   ExpectAll(RefusalOf<InputError>([&] { RunFolderSource source(tmp.path()); }, 10, tmp / "octomap.bt"),
             {"octomap.bt", "FIFO"});
   fs::remove(tmp / "octomap.bt");
-  WriteBytes(tmp / "stats.json", "[]");
+  test::WriteText(tmp / "stats.json", "[]");
   ExpectAll(RefusalOf<InputError>([&] { RunFolderSource source(tmp.path()); }), {"stats.json", "a JSON array"});
 }
 

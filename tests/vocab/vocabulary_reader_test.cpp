@@ -27,10 +27,6 @@ std::string ValidVocabulary() {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-void WriteBytes(const fs::path& path, const std::string& bytes) {
-  std::ofstream(path, std::ios::binary) << bytes;
-}
-
 TEST(VocabularyReader, RefusesAFifoAFolderAndADevice) {
   const TempDir tmp;
   test::MakeFifo(tmp / "v.vocab");
@@ -56,15 +52,15 @@ TEST(VocabularyReader, AHeaderClaimingMoreNodesThanTheFileHoldsIsRefused) {
   ASSERT_GT(bytes.size(), 100u);
   const std::uint32_t count = 50'000'000;  // within the bound, 1.9 GB of nodes
   std::memcpy(bytes.data() + 20, &count, sizeof count);
-  WriteBytes(tmp / "lies.vocab", bytes);
+  test::WriteText(tmp / "lies.vocab", bytes);
   ExpectAll(RefusalOf<InputError>([&] { Vocabulary::Load(tmp / "lies.vocab"); }),
             {"lies.vocab", std::to_string(bytes.size()) + " bytes, expected 1900000096", "50000000 nodes"});
   const std::uint32_t beyond = 0xFFFFFFFFu;
   std::memcpy(bytes.data() + 20, &beyond, sizeof beyond);
-  WriteBytes(tmp / "beyond.vocab", bytes);
+  test::WriteText(tmp / "beyond.vocab", bytes);
   ExpectAll(RefusalOf<InputError>([&] { Vocabulary::Load(tmp / "beyond.vocab"); }),
             {"beyond.vocab", "node count 4294967295 out of range"});
-  WriteBytes(tmp / "ok.vocab", ValidVocabulary());
+  test::WriteText(tmp / "ok.vocab", ValidVocabulary());
   EXPECT_GT(Vocabulary::Load(tmp / "ok.vocab").size(), 0u);
 }
 
@@ -73,7 +69,7 @@ TEST(VocabularyReader, AHeaderThatFitsGigabytesOfZerosIsRefusedWithoutHoldingThe
   std::string header = ValidVocabulary().substr(0, 32);
   const std::uint32_t count = 14'000'000;  // 532 MB of nodes
   std::memcpy(header.data() + 20, &count, sizeof count);
-  WriteBytes(tmp / "zeros.vocab", header);
+  test::WriteText(tmp / "zeros.vocab", header);
   fs::resize_file(tmp / "zeros.vocab", 32 + std::uint64_t{count} * 38 + 64);
   rusage before{}, after{};
   getrusage(RUSAGE_SELF, &before);
