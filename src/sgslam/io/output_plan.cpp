@@ -28,6 +28,13 @@ fs::path Resolved(const fs::path& path) {
 // link there is replaced, not followed).
 fs::path NameKey(const fs::path& file) { return Resolved(fs::absolute(file).parent_path()) / file.filename(); }
 
+// One folder under two names: the same resolved path, or the same folder reached
+// another way (a bind mount).
+bool SameFolder(const fs::path& a, const fs::path& b) {
+  std::error_code ec;
+  return a == b || fs::equivalent(a, b, ec);
+}
+
 bool Under(const fs::path& p, const fs::path& folder) {
   const auto [f, q] = std::mismatch(folder.begin(), folder.end(), p.begin(), p.end());
   return f == folder.end();
@@ -73,7 +80,7 @@ void OutputPlan::CheckFolder(const Entry& w) const {
     throw InputError(what + ": " + w.key.string() + " is a system folder; write into a folder of your own");
   }
   for (const Entry& r : read_folders_) {
-    if (w.key == r.key) {
+    if (SameFolder(w.key, r.key)) {
       throw InputError(what + " is " + r.role + " (" + r.path.string() + "): the outputs would be written among the " +
                        "files it reads; choose another folder");
     }
@@ -88,7 +95,7 @@ void OutputPlan::CheckFile(const Entry& w, std::size_t index) const {
     throw InputError(what + ": " + folder.string() + " is a system folder; write into a folder of your own");
   }
   for (const Entry& r : read_folders_) {
-    if (folder == r.key) {
+    if (SameFolder(folder, r.key)) {
       throw InputError(what + ": would be written into " + r.role + " (" + r.path.string() +
                        "), among the files it reads; choose a file outside it");
     }
