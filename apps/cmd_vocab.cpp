@@ -74,11 +74,6 @@ std::vector<fs::path> ImagesOf(const fs::path& source) {
   return out;
 }
 
-// An 8K frame is 33 million pixels; these stop a wrong file, or a header claiming
-// 60000x60000 pixels, before it is decoded.
-constexpr std::uintmax_t kMaxImageBytes = 256 << 20;
-constexpr std::uint64_t kMaxImagePixels = 1 << 26;
-
 std::vector<cv::Mat> ExtractAll(const std::vector<fs::path>& paths, int features) {
   OrbConfig orb;
   orb.features = features;
@@ -87,7 +82,8 @@ std::vector<cv::Mat> ExtractAll(const std::vector<fs::path>& paths, int features
   const Stopwatch watch;
   std::vector<cv::Mat> out;
   for (std::size_t i = 0; i < paths.size(); ++i) {
-    const cv::Mat gray = ReadImageFile(paths[i], "training image", cv::IMREAD_GRAYSCALE, kMaxImageBytes, kMaxImagePixels);
+    const cv::Mat gray = ReadImageFile(paths[i], "training image", cv::IMREAD_GRAYSCALE, kMaxNamedImageBytes,
+                                         kMaxNamedImagePixels);
     std::vector<cv::KeyPoint> keys;
     cv::Mat descriptors;
     extractor.Extract(gray, keys, descriptors);

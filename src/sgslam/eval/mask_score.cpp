@@ -62,11 +62,8 @@ std::optional<cv::Mat> MaskIndex::Load(Timestamp t) const {
   auto it = files_.lower_bound(t - FromSeconds(0.001));
   if (it == files_.end() || it->first > t + FromSeconds(0.001)) return std::nullopt;
   const auto path = dir_ / it->second;
-  // A mask has a frame's size: these hold a 16-bit 8K frame, and stop a wrong file
-  // (or a header claiming 60000x60000 pixels) before it costs memory.
-  constexpr std::uint64_t kMaxMaskBytes = 256 << 20, kMaxMaskPixels = 1 << 26;
   try {
-    return ReadImageFile(path, "image", cv::IMREAD_GRAYSCALE, kMaxMaskBytes, kMaxMaskPixels);
+    return ReadImageFile(path, "image", cv::IMREAD_GRAYSCALE, kMaxNamedImageBytes, kMaxNamedImagePixels);
   } catch (const InputError& e) {
     throw InputError(std::string("cannot read dynamic mask: ") + e.what());
   }

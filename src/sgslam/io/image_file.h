@@ -37,6 +37,14 @@ std::vector<std::uint8_t> ReadFileBytes(const std::filesystem::path& path, std::
 cv::Mat DecodeImageFile(const std::filesystem::path& path, const std::vector<std::uint8_t>& bytes,
                         const std::optional<ImageHeader>& header, int flags);
 
+// The bounds of an image file a user names whose size no camera config gives (a
+// mask, a training image): twice an 8K frame's 33 million pixels, and 256 MiB,
+// well above such a frame's 66 MB raw at 16 bits (a PNG is hardly more), so every
+// real frame fits, while a wrong file, or a header claiming 60000x60000 pixels, is
+// stopped before it costs memory.
+inline constexpr std::uintmax_t kMaxNamedImageBytes = std::uintmax_t{256} << 20;
+inline constexpr std::uint64_t kMaxNamedImagePixels = std::uint64_t{1} << 26;
+
 // An image file a user named (a mask, a training image), read as TumDataset reads
 // frames: a regular file of at most max_bytes, a PNG or JPEG header of at most
 // max_pixels pixels (checked before decoding), whole. Every error is an InputError

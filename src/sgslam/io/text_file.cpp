@@ -1,16 +1,8 @@
 #include "sgslam/io/text_file.h"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
-
-#include <cerrno>
-#include <cstring>
-
-#include <atomic>
 #include <charconv>
 #include <cmath>
-#include <fstream>
+#include <cstdint>
 #include <system_error>
 
 #include "sgslam/common/error.h"

@@ -6,8 +6,6 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
-#include <map>
-#include <set>
 #include <sstream>
 #include <streambuf>
 #include <string_view>
@@ -21,6 +19,7 @@
 #include "sgslam/common/regular_file.h"
 #include "sgslam/common/sha256.h"
 #include "sgslam/io/text_file.h"
+#include "sgslam/mapfile/map_check.h"
 
 namespace sgslam::mapfile {
 namespace {
@@ -157,8 +156,7 @@ static_assert(std::endian::native == std::endian::little, "the map file's header
 
 namespace {
 
-constexpr char kMagic[8] = {'S', 'G', 'M', 'A', 'P', '\0', '\0', '\0'};
-constexpr std::size_t kHeaderBytes = 8 + 4 + 8 + 32;
+constexpr std::size_t kHeaderBytes = kFileMagic.size() + 4 + 8 + 32;
 
 std::string RawFromHex(const std::string& hex) {
   std::string raw(32, '\0');
@@ -167,10 +165,6 @@ std::string RawFromHex(const std::string& hex) {
 }
 
 std::string Sha256Bytes(const std::string& bytes) { return RawFromHex(Sha256Hex(bytes)); }
-
-[[noreturn]] void Fail(const std::string& what, const std::string& why) {
-  throw InputError("map file " + what + ": " + why);
-}
 
 }  // namespace
 
@@ -181,7 +175,7 @@ std::string Encode(const MapData& data) {
     ar(const_cast<MapData&>(data));  // cereal's serialize() is one function for both directions
   }
   const std::string payload = payload_stream.str();
-  std::string out(kMagic, sizeof kMagic);
+  std::string out(kFileMagic);
   const std::uint32_t version = kFormatVersion;
   const std::uint64_t size = payload.size();
   out.append(reinterpret_cast<const char*>(&version), sizeof version);
@@ -201,18 +195,18 @@ struct Header {
 // The header's magic and version; `bytes` holds the header, `file_bytes` is the
 // whole file's size, which must be the header's and the payload's it gives.
 Header ParseHeader(std::string_view bytes, std::uint64_t file_bytes, const std::string& what) {
-  if (file_bytes < kHeaderBytes) Fail(what, "too short for a map file (" + std::to_string(file_bytes) + " bytes)");
-  if (std::memcmp(bytes.data(), kMagic, sizeof kMagic) != 0) Fail(what, "not an sgslam map file (wrong magic)");
+  if (file_bytes < kHeaderBytes) FailMapFile(what, "too short for a map file (" + std::to_string(file_bytes) + " bytes)");
+  if (bytes.substr(0, kFileMagic.size()) != kFileMagic) FailMapFile(what, "not an sgslam map file (wrong magic)");
   std::uint32_t version = 0;
   Header h;
   std::memcpy(&version, bytes.data() + 8, sizeof version);
   std::memcpy(&h.payload_bytes, bytes.data() + 12, sizeof h.payload_bytes);
   if (version != kFormatVersion) {
-    Fail(what, "format version " + std::to_string(version) + "; this sgslam reads version " +
+    FailMapFile(what, "format version " + std::to_string(version) + "; this sgslam reads version " +
                    std::to_string(kFormatVersion));
   }
   if (h.payload_bytes != file_bytes - kHeaderBytes) {
-    Fail(what, "truncated or padded: the header says " + std::to_string(h.payload_bytes) +
+    FailMapFile(what, "truncated or padded: the header says " + std::to_string(h.payload_bytes) +
                    " payload bytes, the file has " + std::to_string(file_bytes - kHeaderBytes));
   }
   h.checksum = std::string(bytes.substr(20, 32));
@@ -235,7 +229,7 @@ class PayloadBuffer : public std::streambuf {
   }
 };
 
-[[noreturn]] void ChecksumMismatch(const std::string& what) { Fail(what, "checksum mismatch (the file is corrupt)"); }
+[[noreturn]] void ChecksumMismatch(const std::string& what) { FailMapFile(what, "checksum mismatch (the file is corrupt)"); }
 
 // The payload, whose checksum the caller has checked.
 MapData DecodePayload(const std::string& payload, const std::string& what) {
@@ -250,11 +244,11 @@ MapData DecodePayload(const std::string& payload, const std::string& what) {
     } reset;
     cereal::PortableBinaryInputArchive ar(in);
     ar(data);
-    if (in.peek() != std::char_traits<char>::eof()) Fail(what, "bytes left over after the map (corrupt)");
+    if (in.peek() != std::char_traits<char>::eof()) FailMapFile(what, "bytes left over after the map (corrupt)");
   } catch (const InputError&) {
     throw;
   } catch (const std::exception& e) {  // cereal::Exception, or a size that cannot be allocated
-    Fail(what, std::string("cannot decode the map (corrupt): ") + e.what());
+    FailMapFile(what, std::string("cannot decode the map (corrupt): ") + e.what());
   }
   CheckMapData(data, what);
   return data;
@@ -283,171 +277,12 @@ MapData ReadMapFile(const std::filesystem::path& path) {
   // machine's memory can only end in std::bad_alloc, or in swapping for minutes.
   const long pages = sysconf(_SC_PHYS_PAGES), page = sysconf(_SC_PAGESIZE);
   if (pages > 0 && page > 0 && h.payload_bytes > static_cast<std::uint64_t>(pages) * static_cast<std::uint64_t>(page)) {
-    Fail(path.string(), std::to_string(h.payload_bytes) + " bytes of map, more than this machine's memory");
+    FailMapFile(path.string(), std::to_string(h.payload_bytes) + " bytes of map, more than this machine's memory");
   }
   // The checksum before the payload is held: a header that fits the file's size
   // says nothing of what follows it (gigabytes of zeros, say).
   if (RawFromHex(Sha256HexOfFile(file, kHeaderBytes, h.payload_bytes)) != h.checksum) ChecksumMismatch(path.string());
   return DecodePayload(file.Read(kHeaderBytes, static_cast<std::size_t>(h.payload_bytes)), path.string());
-}
-
-namespace {
-
-bool Finite(const Pose& p) {
-  const double n = std::sqrt(p.q[0] * p.q[0] + p.q[1] * p.q[1] + p.q[2] * p.q[2] + p.q[3] * p.q[3]);
-  return std::all_of(p.t.begin(), p.t.end(), [](double v) { return std::isfinite(v); }) && std::abs(n - 1) < 1e-6;
-}
-
-template <typename C>
-bool AllFinite(const C& c) {
-  return std::all_of(c.begin(), c.end(), [](auto v) { return std::isfinite(v); });
-}
-
-// A keypoint's coordinate (px) within 1e6 of 0, and so finite: far beyond any
-// image, and far inside int's range, to which the feature grid casts its cell.
-bool PixelInRange(float v) { return std::abs(v) <= 1e6f; }
-
-// The checks of one keyframe's own arrays; "" when they are consistent.
-std::string CheckKeyFrameArrays(const KeyFrameData& k, int levels) {
-  const std::size_t n = k.keys.size();
-  if (!Finite(k.T_c_w) || !Finite(k.T_c_parent)) return "a pose is not finite or not a rotation";
-  if (k.culled) return n == 0 ? "" : "a culled keyframe with keypoints";
-  if (k.keys_un.size() != n || k.depth.size() != n || k.u_right.size() != n || k.point_ids.size() != n ||
-      k.descriptors.size() != 32 * n || (!k.dynamic.empty() && k.dynamic.size() != n) ||
-      (!k.unjudged.empty() && k.unjudged.size() != n)) {
-    return "per-keypoint arrays of different lengths";
-  }
-  for (std::size_t i = 0; i < n; ++i) {
-    const KeyPointData& p = k.keys[i];
-    // Matching bins the angle (0-360 degrees) and indexes the pyramid by octave.
-    if (!PixelInRange(p.x) || !PixelInRange(p.y) || !PixelInRange(k.keys_un[i][0]) || !PixelInRange(k.keys_un[i][1]) ||
-        p.octave < 0 || p.octave >= levels || !(p.angle >= 0 && p.angle < 360) || !std::isfinite(p.size) ||
-        !std::isfinite(p.response)) {
-      return "keypoint " + std::to_string(i) + " is out of range";
-    }
-  }
-  if (!AllFinite(k.depth) || !AllFinite(k.u_right) || !AllFinite(k.angular_velocity)) return "a depth is not finite";
-  for (const auto& [node, indices] : k.bow_nodes) {
-    if (std::any_of(indices.begin(), indices.end(), [&](std::uint32_t i) { return i >= n; })) {
-      return "a bag-of-words entry names a keypoint it does not have";
-    }
-  }
-  return "";
-}
-
-void CheckKeyFrames(const MapData& d, const std::string& what, std::map<std::uint64_t, const KeyFrameData*>& kfs) {
-  for (const KeyFrameData& k : d.keyframes) {
-    if (k.id >= d.next_keyframe_id || !kfs.emplace(k.id, &k).second) Fail(what, "keyframe id " + std::to_string(k.id) + " repeated or out of range");
-    if (const std::string why = CheckKeyFrameArrays(k, d.settings.orb_levels); !why.empty()) {
-      Fail(what, "keyframe " + std::to_string(k.id) + ": " + why);
-    }
-  }
-  // Parent chains end (PlacedT_c_w and the spanning tree walk them).
-  std::map<std::uint64_t, int> state;  // 1: being walked, 2: ends
-  for (const KeyFrameData& k : d.keyframes) {
-    std::vector<std::uint64_t> chain;
-    for (std::uint64_t id = k.id; id != kNoId && kfs.count(id) && state[id] != 2; id = kfs.at(id)->parent) {
-      if (state[id] == 1) Fail(what, "keyframe " + std::to_string(id) + " is its own ancestor");
-      state[id] = 1;
-      chain.push_back(id);
-    }
-    for (std::uint64_t id : chain) state[id] = 2;
-  }
-  std::set<std::uint64_t> point_ids;
-  for (const MapPointData& p : d.points) point_ids.insert(p.id);
-  for (const KeyFrameData& k : d.keyframes) {
-    const auto live = [&](std::uint64_t id) { return kfs.count(id) && !kfs.at(id)->culled; };
-    const auto fail = [&](const std::string& which, std::uint64_t id) {
-      Fail(what, "keyframe " + std::to_string(k.id) + " refers to " + which + " " + std::to_string(id) +
-                     ", which the map does not have");
-    };
-    if (k.parent != kNoId && (!kfs.count(k.parent) || k.parent == k.id)) fail("parent keyframe", k.parent);
-    for (const auto& [other, weight] : k.connections) {
-      if (!live(other) || other == k.id) fail("covisible keyframe", other);
-    }
-    for (const auto& [other, weight] : k.covisible_order) {
-      if (!live(other) || other == k.id) fail("covisible keyframe", other);
-    }
-    for (std::uint64_t other : k.loop_edges) {
-      if (!live(other) || other == k.id) fail("loop keyframe", other);
-    }
-    for (std::uint64_t p : k.point_ids) {
-      if (p != kNoId && !point_ids.count(p)) fail("map point", p);
-    }
-  }
-}
-
-void CheckPoints(const MapData& d, const std::string& what, const std::map<std::uint64_t, const KeyFrameData*>& kfs) {
-  std::uint64_t last = 0;
-  for (std::size_t i = 0; i < d.points.size(); ++i) {
-    const MapPointData& p = d.points[i];
-    const std::string name = "map point " + std::to_string(p.id);
-    if (p.id >= d.next_point_id || (i > 0 && p.id <= last)) Fail(what, name + ": id repeated, unordered or out of range");
-    last = p.id;
-    if (!AllFinite(p.position) || !AllFinite(p.normal) || !std::isfinite(p.min_distance) || !std::isfinite(p.max_distance)) {
-      Fail(what, name + ": not finite");
-    }
-    if (p.observations.empty() || (p.reference != kNoId && !kfs.count(p.reference))) Fail(what, name + ": no observation, or an unknown reference");
-    for (std::size_t k = 1; k < p.observations.size(); ++k) {
-      if (p.observations[k].first <= p.observations[k - 1].first) Fail(what, name + ": observations repeated or unordered");
-    }
-    for (const auto& [kf, index] : p.observations) {
-      const auto it = kfs.find(kf);
-      if (it == kfs.end() || it->second->culled || index >= it->second->point_ids.size() ||
-          it->second->point_ids[index] != p.id) {
-        Fail(what, name + ": an observation does not match its keyframe");
-      }
-    }
-  }
-}
-
-void CheckSemantic(const MapData& d, const std::string& what, const std::map<std::uint64_t, const KeyFrameData*>& kfs) {
-  const auto image_ok = [](const ImageData& i) {
-    return i.rows >= 0 && i.cols >= 0 && i.pixels.size() == static_cast<std::size_t>(i.rows) * i.cols &&
-           AllFinite(i.pixels);
-  };
-  const auto points_ok = [](const std::vector<ColoredPointData>& points) {
-    return std::all_of(points.begin(), points.end(), [](const ColoredPointData& p) { return AllFinite(p.p); });
-  };
-  for (const CloudData& c : d.semantic.clouds) {
-    // The movers' depth is none or one per pooled depth pixel (the filters index both alike).
-    const bool moving_ok = c.moving_pooled.pixels.empty() || (c.moving_pooled.rows == c.depth_pooled.rows &&
-                                                              c.moving_pooled.cols == c.depth_pooled.cols);
-    if (!kfs.count(c.keyframe) || !image_ok(c.depth_pooled) || !image_ok(c.moving_pooled) || !moving_ok ||
-        !points_ok(c.points_c) || !points_ok(c.rays_c)) {
-      Fail(what, "the cloud of keyframe " + std::to_string(c.keyframe) + " is inconsistent");
-    }
-  }
-  for (const ObjectData& o : d.semantic.objects) {
-    bool ok = AllFinite(o.box_min) && AllFinite(o.box_max);
-    for (const ObjectObservationData& obs : o.observations) {
-      ok = ok && (obs.keyframe == kNoId || kfs.count(obs.keyframe)) && Finite(obs.T_w_c_added) && AllFinite(obs.box) &&
-           std::isfinite(obs.score) &&
-           std::all_of(obs.points_c.begin(), obs.points_c.end(), [](const auto& p) { return AllFinite(p); });
-    }
-    if (!ok) Fail(what, "object " + std::to_string(o.id) + " is inconsistent (an unknown keyframe or a value not finite)");
-  }
-}
-
-}  // namespace
-
-void CheckMapData(const MapData& d, const std::string& what) {
-  if (d.settings.orb_levels <= 0 || d.settings.orb_levels > 32 || !(d.settings.orb_scale_factor > 1)) {
-    Fail(what, "ORB settings out of range");
-  }
-  // Ids continue after these: far from wrapping around.
-  constexpr std::uint64_t kMaxId = std::uint64_t{1} << 62;
-  if (d.next_keyframe_id > kMaxId || d.next_point_id > kMaxId || d.next_frame_id > kMaxId ||
-      d.semantic.next_object_id < 1) {
-    Fail(what, "id counters out of range");
-  }
-  if (std::none_of(d.keyframes.begin(), d.keyframes.end(), [](const KeyFrameData& k) { return !k.culled; })) {
-    Fail(what, "the map holds no keyframe");
-  }
-  std::map<std::uint64_t, const KeyFrameData*> kfs;
-  CheckKeyFrames(d, what, kfs);
-  CheckPoints(d, what, kfs);
-  CheckSemantic(d, what, kfs);
 }
 
 std::string Describe(const MapData& d) {

@@ -8,8 +8,9 @@
 //
 // Written atomically (io/text_file.h). Reading checks the size, magic, version and
 // checksum before it decodes anything, then the content's own consistency
-// (CheckMapData), so a truncated, corrupt, other-version or inconsistent file is an
-// InputError naming the file and the reason, and nothing half-read is returned.
+// (CheckMapData, map_check.h), so a truncated, corrupt, other-version or
+// inconsistent file is an InputError naming the file and the reason, and nothing
+// half-read is returned.
 #pragma once
 
 #include <cstdint>
@@ -31,12 +32,6 @@ MapData Decode(const std::string& bytes, const std::string& what);
 
 void WriteMapFile(const std::filesystem::path& path, const MapData& data);
 MapData ReadMapFile(const std::filesystem::path& path);
-
-// Every reference resolves (keyframes, points, keypoint indices, parents), every
-// per-keypoint array has one entry per keypoint, every number is finite and every
-// keypoint within 1e6 px of 0; throws InputError starting with `what` and naming
-// the first problem.
-void CheckMapData(const MapData& data, const std::string& what);
 
 // A few lines for `sgslam map info`: version, date, camera, keyframes, points,
 // objects, the area covered.

@@ -21,8 +21,7 @@ static_assert(std::endian::native == std::endian::little, "the vocabulary file i
 
 namespace {
 
-constexpr char kMagic[8] = {'S', 'G', 'V', 'O', 'C', 'A', 'B', '\0'};
-constexpr std::size_t kHeaderBytes = 8 + 4 * 4 + 8;
+constexpr std::size_t kHeaderBytes = kFileMagic.size() + 4 * 4 + 8;
 constexpr std::size_t kNodeBytes = 2 + kDescriptorBytes + 4;
 constexpr std::size_t kChecksumChars = 64;
 constexpr int kMaxBranching = 64;
@@ -93,7 +92,7 @@ Vocabulary::Vocabulary(int branching, int levels, std::uint64_t training_images,
 std::string Vocabulary::SerializeBody() const {
   std::string out;
   out.reserve(kHeaderBytes + nodes_.size() * kNodeBytes + kChecksumChars);
-  out.append(kMagic, sizeof(kMagic));
+  out.append(kFileMagic);
   Put<std::uint32_t>(out, kVocabularyVersion);
   Put<std::uint32_t>(out, static_cast<std::uint32_t>(branching_));
   Put<std::uint32_t>(out, static_cast<std::uint32_t>(levels_));
@@ -128,10 +127,10 @@ Header ReadHeader(const RegularFile& file, const std::string& what) {
                      " bytes, too short for one; train one with `sgslam vocab train`)");
   }
   const std::string bytes = file.Read(0, kHeaderBytes);
-  if (std::memcmp(bytes.data(), kMagic, sizeof(kMagic)) != 0) {
+  if (bytes.compare(0, kFileMagic.size(), kFileMagic) != 0) {
     throw InputError(what + ": not an sgslam vocabulary file (no SGVOCAB header; train one with `sgslam vocab train`)");
   }
-  std::size_t at = sizeof(kMagic);
+  std::size_t at = kFileMagic.size();
   if (const auto version = Get<std::uint32_t>(bytes, at); version != kVocabularyVersion) {
     throw InputError(what + ": file version " + std::to_string(version) + ", this build reads version " +
                      std::to_string(kVocabularyVersion) + " (train it again with `sgslam vocab train`)");
