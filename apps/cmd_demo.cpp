@@ -4,14 +4,12 @@
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
-#include <algorithm>
 #include <cstdio>
 #include <memory>
 
 #include "commands.h"
 #include "run_pipeline.h"
-#include "sgslam/common/error.h"
-#include "sgslam/common/regular_file.h"
+#include "stop_signals.h"
 #include "sgslam/io/output_plan.h"
 #include "sgslam/synth/writer.h"
 
@@ -24,37 +22,27 @@ struct DemoOptions {
   int frames = 150;
 };
 
-// The demo regenerates its own sequence on every run, replacing the files synth
-// writes; a folder of that name that synth did not write (a user's own dataset) is
-// refused instead.
-void CheckDemoFolder(const std::filesystem::path& out) {
+int RunDemo(const DemoOptions& o) {
+  const std::filesystem::path out = o.out;
   OutputPlan plan;
   plan.WritesFolder(out, "--out");
   plan.Check();
-  const std::filesystem::path sequence = out / "sequence";
-  std::error_code ec;
-  if (!std::filesystem::exists(sequence, ec) || std::filesystem::is_empty(sequence, ec)) return;
-  bool written_by_synth = false;
-  if (WhyNotRegularFile(sequence / "rgb.txt").empty()) {
-    const RegularFile list(sequence / "rgb.txt", "the demo's image list");
-    written_by_synth = list.Read(0, std::min<std::uint64_t>(list.size(), 200)).find("sgslam synth") != std::string::npos;
-  }
-  if (!written_by_synth) {
-    throw InputError("--out " + out.string() + ": " + sequence.string() + " holds a sequence that `sgslam synth` did "
-                     "not write; the demo would replace its lists: choose another folder");
-  }
-}
-
-int RunDemo(const DemoOptions& o) {
-  const std::filesystem::path out = o.out;
-  CheckDemoFolder(out);
   synth::SynthOptions so;
   so.preset = "walkers";
   so.frames = o.frames;
-  so.force = true;  // the demo's own folder: regenerated on every run
+  so.force = true;  // the demo's own sequence, regenerated on every run (a folder synth did not write is refused)
   std::printf("1/3 generating a synthetic 'walkers' sequence (%d frames, people walking through the view)...\n",
               o.frames);
-  const synth::SynthSummary synth = synth::GenerateSequence(so, out / "sequence");
+  synth::SynthSummary synth;
+  {
+    const StopSignals signals;  // Ctrl-C: the frames so far are listed, and the demo ends
+    so.stop = &StopSignals::Flag();
+    synth = synth::GenerateSequence(so, out / "sequence");
+  }
+  if (synth.stopped) {
+    std::printf("demo: stopped by %s while generating the sequence\n", SignalName(StopSignals::Received()));
+    return 128 + StopSignals::Received();
+  }
   std::printf("    %s: %.0f %% of the image moves on average (%.1f s)\n", synth.out.string().c_str(),
               100 * synth.mean_dynamic_fraction, synth.seconds);
 

@@ -11,8 +11,8 @@
 #include "sgslam/common/time.h"
 #include "sgslam/eval/evaluate.h"
 #include "sgslam/eval/plot.h"
+#include "sgslam/io/atomic_write.h"
 #include "sgslam/io/output_plan.h"
-#include "sgslam/io/text_file.h"
 
 namespace sgslam::app {
 

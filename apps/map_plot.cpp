@@ -7,7 +7,7 @@
 
 #include "sgslam/common/error.h"
 #include "sgslam/common/stats.h"
-#include "sgslam/io/text_file.h"
+#include "sgslam/io/atomic_write.h"
 
 namespace sgslam::app {
 

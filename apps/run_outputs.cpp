@@ -11,8 +11,8 @@
 #include "sgslam/common/error.h"
 #include "sgslam/detection/darknet_model.h"
 #include "sgslam/detection/detections_file.h"
+#include "sgslam/io/atomic_write.h"
 #include "sgslam/io/ply.h"
-#include "sgslam/io/text_file.h"
 #include "sgslam/loop/vocabulary_file.h"
 
 namespace sgslam::app {

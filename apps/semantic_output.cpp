@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
-#include "sgslam/io/text_file.h"
+#include "sgslam/io/atomic_write.h"
 #include "sgslam/semantic/object_json.h"
 
 namespace sgslam::app {

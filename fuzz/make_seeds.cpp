@@ -10,7 +10,7 @@
 #include "sgslam/common/sha256.h"
 #include "sgslam/config/yaml_io.h"
 #include "sgslam/features/orb_config.h"
-#include "sgslam/io/text_file.h"
+#include "sgslam/io/atomic_write.h"
 #include "sgslam/mapfile/map_capture.h"
 #include "sgslam/mapfile/map_file.h"
 #include "sgslam/vocab/training.h"

@@ -4,11 +4,12 @@ import re
 
 import fault_files as files
 from fault_cases import BASE_FRAMES, SIG, SkipCase, case, edit, append, replace_file, garbage, stats_of
+import shutil
 import stat
 import subprocess
 import sys
 
-from fault_cases import check_map, copy_eval_inputs
+from fault_cases import check_map, copy_eval_inputs, when_exists
 
 NOT_WRITTEN = "must stay as it is\n"
 
@@ -33,6 +34,22 @@ def dead_pid():
     child = subprocess.Popen([sys.executable, "-c", "pass"])
     child.wait()
     return child.pid
+
+
+def write_config(t, text):
+    path = t.path("c.yaml")
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(text)
+    return path
+
+
+def temp_name(path, pid, suffix):
+    """The temporary name a writer of path with process id pid gives (io/atomic_write.h):
+    <path>.tmp-sgslam.<boot id's first 8>-<PID namespace in hex>.<pid>.<suffix>."""
+    with open("/proc/sys/kernel/random/boot_id", encoding="ascii") as f:
+        boot = f.read().strip()[:8]
+    owner = f"{boot}-{os.stat('/proc/self/ns/pid').st_ino:x}"
+    return f"{path}.tmp-sgslam.{owner}.{pid}.{suffix}"
 
 
 def absent_after(t, folder, names):
@@ -179,16 +196,18 @@ def _(t):
 # --- temporary files a killed run left ----------------------------------------
 
 @case("stale-temp-removed", "temporary files of a killed run (a dead PID) beside trajectory.txt and the --save-map "
-      "file; one of a live writer", 0, r"removed .*trajectory\.txt\.tmp\.\d+\.0, left by a writer that was killed",
+      "file; one of a live writer and a user's file of a like name kept", 0,
+      r"removed .*trajectory\.txt\.tmp-sgslam\.\S+\.0, left by a writer that was killed",
       short=True)
 def _(t):
     dead = dead_pid()
     os.makedirs(t.path("out"))
     os.makedirs(t.path("maps"))
-    stale = [t.path("out", f"trajectory.txt.tmp.{dead}.0"), t.path("maps", f"room.map.tmp.{dead}.3"),
-             t.path("maps", f"room.map.tmp.{dead}.Xy12Ab")]
-    live = t.path("maps", f"room.map.tmp.{os.getpid()}.1")  # this script is alive, and was before the file
-    for p in stale + [live]:
+    stale = [temp_name(t.path("out", "trajectory.txt"), dead, "0"), temp_name(t.path("maps", "room.map"), dead, "3"),
+             temp_name(t.path("maps", "room.map"), dead, "Xy12Ab")]
+    live = temp_name(t.path("maps", "room.map"), os.getpid(), "1")  # this script is alive
+    users = t.path("maps", f"room.map.tmp.{dead}.backup")  # a user's own file of a similar name
+    for p in stale + [live, users]:
         with open(p, "w", encoding="utf-8") as f:
             f.write("partial")
     t.writable.add(t.path("maps"))
@@ -198,6 +217,8 @@ def _(t):
         t.problem("other", "not removed: " + ", ".join(left))
     if not os.path.exists(live):
         t.problem("outside", "the live writer's temporary file was removed")
+    if not os.path.exists(users):
+        t.problem("outside", "the user's room.map.tmp.<n>.backup was removed")
     check_map(t, t.path("maps", "room.map"))
 
 
@@ -265,16 +286,94 @@ def _(t):
     unchanged(t, notes, "notes.txt")
 
 
-@case("demo-over-user-sequence", "demo --out a folder whose sequence/ is a user's dataset (not written by synth)", 1,
-      r"holds a sequence that `sgslam synth` did not write")
-def _(t):
-    ds = t.dataset(os.path.join("demo", "sequence"))
-    rgb = os.path.join(ds, "rgb.txt")
-    with open(rgb, encoding="utf-8") as f:
-        text = f.read().replace("sgslam synth", "a camera")
-    with open(rgb, "w", encoding="utf-8") as f:
-        f.write(text)
-    t.sgslam("demo", "--out", t.path("demo"))
-    with open(rgb, encoding="utf-8") as f:
-        if f.read() != text:
+def users_dataset(t, name):
+    """A copy of the sequence that synth did not write (its sgslam.yaml a user's)."""
+    ds = t.dataset(name)
+    with open(os.path.join(ds, "sgslam.yaml"), "w", encoding="utf-8") as f:
+        f.write("# my camera\ncamera: {fx: 525.0, fy: 525.0, cx: 319.5, cy: 239.5, depth_factor: 5000.0}\n")
+    with open(os.path.join(ds, "rgb.txt"), encoding="utf-8") as f:
+        return ds, f.read()
+
+
+def lists_kept(t, ds, rgb):
+    with open(os.path.join(ds, "rgb.txt"), encoding="utf-8") as f:
+        if f.read() != rgb:
             t.problem("outside", "the user's rgb.txt was replaced")
+
+
+@case("demo-over-user-sequence", "demo --out a folder whose sequence/ is a user's dataset (not written by synth)", 1,
+      r"synth --force: .*sequence/rgb\.txt was not written by sgslam synth")
+def _(t):
+    ds, rgb = users_dataset(t, os.path.join("demo", "sequence"))
+    t.sgslam("demo", "--out", t.path("demo"))
+    lists_kept(t, ds, rgb)
+
+
+@case("synth-force-over-dataset", "synth --force into a user's dataset (synth did not write it)", 1,
+      r"synth --force: .*rgb\.txt was not written by sgslam synth")
+def _(t):
+    ds, rgb = users_dataset(t, "seq")
+    t.sgslam("synth", "--preset", "static", "--frames", 3, "--force", "--out", ds)
+    lists_kept(t, ds, rgb)
+
+
+@case("demo-after-interrupted-demo", "demo stopped by SIGINT while generating its sequence, then demo again", 0)
+def _(t):
+    out = t.path("demo")
+    t.writable.add(out)
+    first = t.sgslam("demo", "--out", out, "--frames", 60, main=False,
+                     driver=when_exists(os.path.join(out, "sequence", "rgb"), SIG.SIGINT, count=3))
+    if first.status != 130:
+        t.problem("status", f"the interrupted demo exited {first.describe()}, expected 130")
+    t.sgslam("demo", "--out", out, "--frames", 30)
+
+
+@case("save-map-is-out-folder", "--out mm.map --save-map mm.map (both new: the map would meet a folder at the end)", 1,
+      r"--save-map .*mm\.map: --out .*mm\.map is a folder there")
+def _(t):
+    t.sgslam("run", "--dataset", t.dataset(), "--out", t.path("mm.map"), "--save-map", t.path("mm.map"))
+
+
+@case("save-map-inside-output", "--save-map OUT/stats.json/m.map (a folder where the run's stats.json goes)", 1,
+      r"--save-map .*would be inside the run's stats\.json")
+def _(t):
+    t.run(t.dataset(), "--save-map", t.path("out", "stats.json", "m.map"))
+
+
+@case("synth-out-empty", "synth --out ''", 1, r"--out: an empty path")
+def _(t):
+    t.sgslam("synth", "--preset", "static", "--frames", 3, "--out", "")
+
+
+@case("out-model-folder", "--out the detector's model folder (--model a copy of the shipped one)", 1,
+      r"--out .* is the detector's model folder")
+def _(t):
+    shipped = os.path.join(os.path.dirname(t.suite.sgslam), "share", "sgslam", "models", "yolo-fastest-1.1-coco")
+    if not os.path.isdir(shipped):
+        raise SkipCase(f"no shipped model at {shipped}")
+    model = t.path("model")
+    shutil.copytree(shipped, model)
+    t.sgslam("run", "--dataset", t.dataset(), "--mode", "sg", "--config", write_config(t, "detector: {backend: dnn}\n"),
+             "--model", model, "--out", model)
+
+
+@case("save-map-over-vocabulary", "--save-map the vocabulary loop.vocabulary names", 1,
+      r"--save-map .*vocab is the vocabulary of loop\.vocabulary")
+def _(t):
+    if not t.suite.vocabulary():
+        raise SkipCase("no shipped vocabulary beside the program")
+    vocabulary = t.path("copy.vocab")
+    shutil.copy(t.suite.vocabulary(), vocabulary)
+    config = write_config(t, f"loop: {{vocabulary: {vocabulary}}}\n")
+    t.run(t.dataset(), "--config", config, "--save-map", vocabulary)
+
+
+@case("out-over-detections-file", "detector.detections_file out/detections.txt: the run would replace what it replays",
+      1, r"the run's detections\.txt .* is the detections file of detector\.backend file")
+def _(t):
+    ds = t.dataset()
+    os.makedirs(t.path("out"))
+    shutil.copy(os.path.join(ds, "detections.txt"), t.path("out", "detections.txt"))
+    config = write_config(t, f"detector: {{backend: file, detections_file: {t.path('out', 'detections.txt')}}}\n")
+    t.writable.add(t.path("out"))
+    t.sgslam("run", "--dataset", ds, "--mode", "sg", "--config", config, "--out", t.path("out"))

@@ -3,9 +3,10 @@
 
 Each message is a line "topic datatype md5sum secs nsecs length", then length
 bytes of the serialized message; the line "END" closes the stream. The bag is
-written to a new file OUT.tmp.<pid>.<random> (created exclusively: a link planted
-under a fixed name is never written through; sgslam removes it if this process is
-killed) and renamed to OUT only after END, so a player that stopped early leaves no
+written to a new file TEMP_PREFIX<random> (created exclusively: a link planted
+under a fixed name is never written through; the player passes the prefix of its
+own temporary names, io/atomic_write.h, so a later writer of OUT removes the file
+if both were killed) and renamed to OUT only after END, so a player that stopped early leaves no
 bag under OUT's name, and no temporary file either.
 """
 import os
@@ -41,19 +42,20 @@ def write(out, tmp, inp):
 
 
 def main():
-    if len(sys.argv) != 2:
-        sys.exit("usage: bag_writer.py OUT.bag < messages")
-    out = sys.argv[1]
-    fd, tmp = tempfile.mkstemp(prefix=os.path.basename(out) + f".tmp.{os.getpid()}.", dir=os.path.dirname(out) or ".")
-    os.close(fd)
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(tmp, 0o666 & ~umask)  # as an ordinary new file (mkstemp makes it 0600)
+    if len(sys.argv) != 3:
+        sys.exit("usage: bag_writer.py OUT.bag TEMP_PREFIX < messages")
+    out, prefix = sys.argv[1], sys.argv[2]
+    tmp = None
     try:
+        fd, tmp = tempfile.mkstemp(prefix=os.path.basename(prefix), dir=os.path.dirname(prefix) or ".")
+        os.close(fd)
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o666 & ~umask)  # as an ordinary new file (mkstemp makes it 0600)
         write(out, tmp, sys.stdin.buffer)
         os.replace(tmp, out)
     except Exception as e:  # noqa: BLE001 (any failure: no bag, no temporary file, the reason)
-        if os.path.exists(tmp):
+        if tmp and os.path.exists(tmp):
             os.remove(tmp)
         sys.exit(f"bag_writer.py: {e}; {out} not written")
 

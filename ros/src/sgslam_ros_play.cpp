@@ -29,9 +29,9 @@
 #include "ros_messages.h"
 #include "sgslam/common/data_dir.h"
 #include "sgslam/common/error.h"
+#include "sgslam/io/atomic_write.h"
 #include "sgslam/io/frame_stream.h"
 #include "sgslam/io/output_plan.h"
-#include "sgslam/io/text_file.h"
 #include "sgslam/io/tum_dataset.h"
 #include "sgslam/system/run_config.h"
 
@@ -114,7 +114,8 @@ class BagSink : public Sink {
     if (!data || !fs::is_regular_file(writer)) {
       throw sgslam::InputError("the bag writer (share/sgslam/ros/bag_writer.py) was not found beside the executable");
     }
-    const std::string command = "/usr/bin/python3 " + Quoted(writer.string()) + " " + Quoted(bag.string());
+    const std::string command = "/usr/bin/python3 " + Quoted(writer.string()) + " " + Quoted(bag.string()) + " " +
+                                Quoted(sgslam::TempFilePrefix(bag));
     std::signal(SIGPIPE, SIG_IGN);  // a writer that died: a write error, reported, not a silent end
     pipe_ = popen(command.c_str(), "w");
     if (!pipe_) throw sgslam::InputError("cannot start " + command);

@@ -2,11 +2,13 @@
 // and a message that names the file, line, key or value at fault.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "run_outputs.h"
 #include "sgslam/detection/detections_file.h"
 #include "support/test_support.h"
 #include "support/tiny_dataset.h"
@@ -125,6 +127,14 @@ TEST(RunCommand, DetectionsOfTheRunAreSavedForReplay) {
       EXPECT_EQ(s[i].carried, 0);
     }
   }
+  // Every output is one RunOutputNames() gives, which the paths are checked by
+  // (io/output_plan.h), and this run, with the detector and the semantic map, wrote them all.
+  std::vector<std::string> written;
+  for (const auto& e : fs::directory_iterator(tmp / "out")) written.push_back(e.path().filename().string());
+  std::vector<std::string> names = app::RunOutputNames();
+  std::sort(written.begin(), written.end());
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(written, names);
   std::ifstream csv(tmp / "out" / "frames.csv");
   std::string header;
   std::getline(csv, header);

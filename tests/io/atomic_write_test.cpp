@@ -1,14 +1,14 @@
 // WriteFileAtomically's clearing of the temporary files that killed writers left.
+#include "sgslam/io/atomic_write.h"
+
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <chrono>
 #include <string>
 #include <vector>
 
-#include "sgslam/io/text_file.h"
 #include "support/test_support.h"
 
 namespace sgslam {
@@ -34,37 +34,49 @@ pid_t DeadPid() {
   return child;
 }
 
+// The temporary name a writer of path with process id pid gives, in this boot and
+// PID namespace: TempFilePrefix's with another id.
+std::string TempName(const fs::path& path, pid_t pid, const std::string& suffix) {
+  std::string prefix = TempFilePrefix(path);
+  prefix.erase(prefix.rfind('.', prefix.size() - 2) + 1);  // "<path>.tmp-sgslam.<owner>."
+  return fs::path(prefix + std::to_string(pid) + "." + suffix).filename().string();
+}
+
+TEST(WriteFileAtomically, TemporaryNamesCarryTheWritersId) {
+  const std::string prefix = TempFilePrefix("/x/room.map");
+  EXPECT_EQ(prefix.rfind("/x/room.map.tmp-sgslam.", 0), 0u) << prefix;
+  EXPECT_NE(prefix.find("." + std::to_string(getpid()) + "."), std::string::npos) << prefix;
+}
+
 TEST(WriteFileAtomically, RemovesTheTemporaryFilesOfDeadWriters) {
   const TempDir tmp;
-  const std::string dead = std::to_string(DeadPid());
-  WriteText(tmp / ("room.map.tmp." + dead + ".0"), "linked, not yet renamed");
-  WriteText(tmp / ("room.map.tmp." + dead + ".aB3xY9"), "the fallback's name");
+  const pid_t dead = DeadPid();
+  for (const char* suffix : {"0", "aB3xY9", "k2_x9abc"}) {  // linked, mkostemp's, Python's mkstemp's
+    WriteText(tmp / TempName(tmp / "room.map", dead, suffix), "partial");
+  }
   WriteFileAtomically(tmp / "room.map", "new\n");
   EXPECT_EQ(Names(tmp.path()), std::vector<std::string>{"room.map"});
 }
 
-TEST(WriteFileAtomically, KeepsTheTemporaryFilesOfLiveWritersAndOtherNames) {
+TEST(WriteFileAtomically, KeepsLiveWritersFilesAndEveryOtherName) {
   const TempDir tmp;
-  const std::string parent = std::to_string(getppid());  // alive, and started before the file was written
-  const std::vector<std::string> kept = {"room.map.tmp." + parent + ".3", "room.map.tmp.1.7", "room.map.tmp.notes",
-                                         "room.map.tmp.12345.old~", "other.map.tmp." + std::to_string(DeadPid()) + ".0"};
+  const pid_t dead = DeadPid();
+  std::string other_owner = TempName(tmp / "room.map", dead, "0");
+  other_owner.replace(other_owner.find("tmp-sgslam.") + 11, 4, "zzzz");  // another boot, host or container
+  const std::vector<std::string> kept = {
+      TempName(tmp / "room.map", getppid(), "3"),          // its writer is alive
+      TempName(tmp / "room.map", dead, "17-characters-x"),  // not a suffix a writer gives
+      TempName(tmp / "room.map", dead, "seventeen_chars_x"),
+      TempName(tmp / "other.map", dead, "0"),  // another output's
+      other_owner,
+      "room.map.tmp.12345.old",  // a user's own names
+      "room.map.tmp-sgslam.backup"};
   for (const std::string& name : kept) WriteText(tmp / name, "keep");
   WriteFileAtomically(tmp / "room.map", "new\n");
   std::vector<std::string> expected = kept;
   expected.push_back("room.map");
   std::sort(expected.begin(), expected.end());
   EXPECT_EQ(Names(tmp.path()), expected);
-}
-
-TEST(WriteFileAtomically, RemovesAFileWhoseWritersIdWasReused) {
-  const TempDir tmp;
-  // The parent process is alive, but it started after this file was last written:
-  // the writer that named it had the same id before.
-  const fs::path stale = tmp / ("room.map.tmp." + std::to_string(getppid()) + ".2");
-  WriteText(stale, "stale");
-  fs::last_write_time(stale, fs::file_time_type::clock::now() - std::chrono::hours(24 * 365 * 20));
-  WriteFileAtomically(tmp / "room.map", "new\n");
-  EXPECT_EQ(Names(tmp.path()), std::vector<std::string>{"room.map"});
 }
 
 }  // namespace

@@ -1,8 +1,12 @@
 #include "sgslam/io/output_plan.h"
 
 #include <gtest/gtest.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
+#include <sys/un.h>
+#include <unistd.h>
 
+#include <cstring>
 #include <string>
 
 #include "sgslam/common/error.h"
@@ -99,11 +103,24 @@ TEST(OutputPlan, ReplacesAnExistingFileOnlyOfItsOwnKind) {
   EXPECT_NO_THROW(any.Check());
 }
 
-TEST(OutputPlan, NeverReplacesAFolderFifoOrDevice) {
+// A socket, as a file a device or another program's endpoint would be.
+void MakeSocket(const fs::path& path) {
+  const int fd = socket(AF_UNIX, SOCK_STREAM, 0);
+  ASSERT_GE(fd, 0);
+  sockaddr_un address{};
+  address.sun_family = AF_UNIX;
+  ASSERT_LT(path.string().size(), sizeof address.sun_path);
+  std::strcpy(address.sun_path, path.c_str());
+  ASSERT_EQ(bind(fd, reinterpret_cast<const sockaddr*>(&address), sizeof address), 0);
+  close(fd);
+}
+
+TEST(OutputPlan, NeverReplacesAFolderFifoOrSocket) {
   const TempDir tmp;
   fs::create_directories(tmp / "folder.map");
   ASSERT_EQ(mkfifo((tmp / "fifo.map").c_str(), 0644), 0);
-  for (const fs::path& p : {tmp / "folder.map", tmp / "fifo.map"}) {
+  MakeSocket(tmp / "socket.map");
+  for (const fs::path& p : {tmp / "folder.map", tmp / "fifo.map", tmp / "socket.map"}) {
     OutputPlan plan;
     plan.Writes(p, "--save-map", "SGMAP");
     const std::string why = Refusal(plan);
@@ -114,15 +131,40 @@ TEST(OutputPlan, NeverReplacesAFolderFifoOrDevice) {
   EXPECT_NE(Refusal(device).find("system folder"), std::string::npos);
 }
 
+TEST(OutputPlan, RefusesEmptyPaths) {
+  OutputPlan folder;
+  folder.WritesFolder("", "--out");
+  EXPECT_EQ(Refusal(folder), "--out: an empty path");
+  OutputPlan file;
+  file.Writes("", "--save-map", "SGMAP");
+  EXPECT_EQ(Refusal(file), "--save-map: an empty path");
+}
+
+TEST(OutputPlan, RefusesAFileWhereAnOutputNeedsAFolder) {
+  const TempDir tmp;
+  const auto refused = [&](const fs::path& out, const fs::path& map) {
+    OutputPlan plan;
+    plan.WritesFolder(out, "--out");
+    plan.Writes(out / "stats.json", "the run's stats.json");
+    plan.Writes(map, "--save-map", "SGMAP");
+    return Refusal(plan);
+  };
+  EXPECT_NE(refused(tmp / "mm.map", tmp / "mm.map").find("--out"), std::string::npos);  // the same new name
+  EXPECT_NE(refused(tmp / "maps" / "run1", tmp / "maps").find("is a folder there"), std::string::npos);
+  EXPECT_NE(refused(tmp / "o3", tmp / "o3" / "stats.json" / "m.map").find("would be inside the run's stats.json"),
+            std::string::npos);
+}
+
 TEST(OutputPlan, RefusesSystemFolders) {
   for (const char* folder : {"/", "/etc", "/usr/share", "/usr/local/lib", "/proc/self", "/dev", "/boot", "/var", "/home",
-                             "/etc/../usr"}) {
+                             "/mnt", "/etc/../usr"}) {
     EXPECT_TRUE(IsSystemFolder(folder)) << folder;
     OutputPlan plan;
     plan.WritesFolder(folder, "--out");
     EXPECT_NE(Refusal(plan).find("is a system folder"), std::string::npos) << folder;
   }
-  for (const char* folder : {"/tmp", "/tmp/x", "/var/tmp/run", "/home/someone/out", "/dev/shm/sgslam", "/opt/robot/maps"}) {
+  for (const char* folder :
+       {"/tmp", "/tmp/x", "/var/tmp/run", "/home/someone/out", "/dev/shm", "/dev/shm/sgslam", "/opt/robot/maps", "/mnt/data"}) {
     EXPECT_FALSE(IsSystemFolder(folder)) << folder;
   }
 }

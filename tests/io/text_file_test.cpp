@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "sgslam/common/error.h"
+#include "sgslam/io/atomic_write.h"
 #include "support/test_support.h"
 
 namespace sgslam {

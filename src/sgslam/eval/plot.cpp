@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "sgslam/common/error.h"
-#include "sgslam/io/text_file.h"
+#include "sgslam/io/atomic_write.h"
 
 namespace sgslam::eval {
 

@@ -1,5 +1,5 @@
-// WriteFileAtomically (text_file.h): a fresh temporary file renamed over the
-// output, and the temporary files of killed runs cleared away.
+#include "sgslam/io/atomic_write.h"
+
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -20,7 +20,6 @@
 #include <spdlog/spdlog.h>
 
 #include "sgslam/common/error.h"
-#include "sgslam/io/text_file.h"
 
 namespace sgslam {
 
@@ -66,7 +65,7 @@ TempFile OpenTempFile(const fs::path& path, const fs::path& dir) {
     tmp.fd = open(dir.c_str(), O_TMPFILE | O_WRONLY | O_CLOEXEC, 0666);  // the umask applies
     if (tmp.fd >= 0) return tmp;
   }
-  tmp.name = path.string() + ".tmp." + std::to_string(getpid()) + ".XXXXXX";  // the pattern RemoveStaleTempFiles knows
+  tmp.name = TempFilePrefix(path) + "XXXXXX";
   tmp.fd = mkostemp(tmp.name.data(), O_CLOEXEC);
   if (tmp.fd < 0) throw InputError("cannot write file: " + path.string() + ": " + std::strerror(errno));
   if (fchmod(tmp.fd, 0666 & ~CurrentUmask()) != 0) {  // as an ordinary new file (mkstemp makes it 0600)
@@ -79,13 +78,50 @@ TempFile OpenTempFile(const fs::path& path, const fs::path& dir) {
   return tmp;
 }
 
+// Who may judge a temporary file: processes of this boot of this machine, in this
+// PID namespace (a process id means nothing elsewhere: another host sharing the
+// folder, another container, a boot before).
+std::string MakeOwnerToken() {
+  std::string boot = "0";
+  if (std::ifstream in("/proc/sys/kernel/random/boot_id"); std::getline(in, boot)) boot = boot.substr(0, 8);
+  struct stat ns {};
+  const unsigned long long pid_namespace = stat("/proc/self/ns/pid", &ns) == 0 ? ns.st_ino : 0;
+  char hex[24];
+  const auto r = std::to_chars(hex, hex + sizeof hex, pid_namespace, 16);
+  return boot + "-" + std::string(hex, r.ptr);
+}
+
+const std::string& TempOwnerToken() {
+  static const std::string token = MakeOwnerToken();
+  return token;
+}
+
+// The writer's process id in "<name>.tmp-sgslam.<owner>.<pid>.<suffix>" with this
+// process's owner token; nothing for any other name (a user's "room.map.tmp.old",
+// another machine's or container's temporary file).
+std::optional<long> TempFileOwner(const std::string& entry, const std::string& name) {
+  const std::string prefix = name + ".tmp-sgslam." + TempOwnerToken() + ".";
+  if (entry.size() <= prefix.size() || entry.compare(0, prefix.size(), prefix) != 0) return std::nullopt;
+  const char* begin = entry.data() + prefix.size();
+  const char* end = entry.data() + entry.size();
+  long pid = 0;
+  const auto [dot, ec] = std::from_chars(begin, end, pid);
+  if (ec != std::errc() || dot == end || *dot != '.' || pid <= 0) return std::nullopt;
+  const std::size_t suffix = static_cast<std::size_t>(end - dot - 1);  // mkostemp's 6, Python's 8, a counter
+  if (suffix == 0 || suffix > 16 ||
+      !std::all_of(dot + 1, end, [](char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_'; })) {
+    return std::nullopt;
+  }
+  return pid;
+}
+
 // Gives the written, unnamed file a fresh name beside path (linkat does not replace
 // a file, so the rename that follows is what replaces the old one atomically).
 bool LinkUnderTempName(TempFile& tmp, const fs::path& path) {
   static std::atomic<unsigned> counter{0};
   const std::string proc = "/proc/self/fd/" + std::to_string(tmp.fd);
   for (int attempt = 0; attempt < 100; ++attempt) {
-    const std::string name = path.string() + ".tmp." + std::to_string(getpid()) + "." + std::to_string(counter++);
+    const std::string name = TempFilePrefix(path) + std::to_string(counter++);
     if (linkat(AT_FDCWD, proc.c_str(), AT_FDCWD, name.c_str(), AT_SYMLINK_FOLLOW) == 0) {
       tmp.name = name;
       return true;
@@ -95,66 +131,22 @@ bool LinkUnderTempName(TempFile& tmp, const fs::path& path) {
   return false;
 }
 
-// When process pid started (seconds since the epoch), from /proc; nothing when
-// it is not running or this cannot be told.
-std::optional<double> ProcessStart(long pid) {
-  std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
-  std::string text;
-  if (!std::getline(stat, text)) return std::nullopt;
-  const std::size_t paren = text.rfind(')');  // the command's name may hold spaces and parentheses
-  if (paren == std::string::npos) return std::nullopt;
-  std::istringstream fields(text.substr(paren + 2));
-  std::string field;
-  unsigned long long ticks = 0;
-  for (int i = 3; i <= 22 && fields >> field; ++i) {
-    if (i == 22) ticks = std::strtoull(field.c_str(), nullptr, 10);  // starttime: ticks after boot
-  }
-  std::ifstream proc_stat("/proc/stat");
-  for (std::string line; std::getline(proc_stat, line);) {
-    if (line.rfind("btime ", 0) == 0) {
-      return std::strtod(line.c_str() + 6, nullptr) + static_cast<double>(ticks) / static_cast<double>(sysconf(_SC_CLK_TCK));
-    }
-  }
-  return std::nullopt;
-}
-
-// The writer's process id in "<name>.tmp.<pid>.<suffix>", the names this file's
-// writers give their temporary files; nothing for any other name.
-std::optional<long> TempFileOwner(const std::string& entry, const std::string& name) {
-  const std::string prefix = name + ".tmp.";
-  if (entry.size() <= prefix.size() || entry.compare(0, prefix.size(), prefix) != 0) return std::nullopt;
-  const char* begin = entry.data() + prefix.size();
-  const char* end = entry.data() + entry.size();
-  long pid = 0;
-  const auto [dot, ec] = std::from_chars(begin, end, pid);
-  if (ec != std::errc() || dot == end || *dot != '.' || dot + 1 == end || pid <= 0) return std::nullopt;
-  if (!std::all_of(dot + 1, end, [](char c) { return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_'; })) {
-    return std::nullopt;
-  }
-  return pid;
-}
-
-// A temporary file is a killed writer's when its process is gone, or when the
-// process of that id started after the file was last written (the id was reused).
-bool LeftByDeadWriter(long pid, const fs::path& file) {
-  if (pid == getpid()) return false;  // another thread of this run may be writing it
-  if (kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH) return true;
-  struct stat st {};
-  if (lstat(file.c_str(), &st) != 0 || !S_ISREG(st.st_mode)) return false;
-  const std::optional<double> started = ProcessStart(pid);
-  return started && *started > static_cast<double>(st.st_mtim.tv_sec) + 1.0;
-}
-
 }  // namespace
+
+std::string TempFilePrefix(const fs::path& path) {
+  return path.string() + ".tmp-sgslam." + TempOwnerToken() + "." + std::to_string(getpid()) + ".";
+}
 
 void RemoveStaleTempFiles(const fs::path& path) {
   const fs::path dir = path.has_parent_path() ? path.parent_path() : fs::path(".");
   const std::string name = path.filename().string();
   std::error_code ec;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-    const std::string entry = it->path().filename().string();
-    const std::optional<long> pid = TempFileOwner(entry, name);
-    if (!pid || !it->is_regular_file(ec) || it->is_symlink(ec) || !LeftByDeadWriter(*pid, it->path())) continue;
+    const std::optional<long> pid = TempFileOwner(it->path().filename().string(), name);
+    // Only a file whose writer is gone: its id names no process here (a reused id
+    // keeps the file until that process ends, which is harmless).
+    if (!pid || *pid == getpid() || kill(static_cast<pid_t>(*pid), 0) == 0 || errno != ESRCH) continue;
+    if (!it->is_regular_file(ec) || it->is_symlink(ec)) continue;
     if (fs::remove(it->path(), ec)) spdlog::info("removed {}, left by a writer that was killed", it->path().string());
   }
 }

@@ -26,7 +26,10 @@ fs::path Resolved(const fs::path& path) {
 
 // A file's name as a rename sees it: its folder resolved, its own name kept (a
 // link there is replaced, not followed).
-fs::path NameKey(const fs::path& file) { return Resolved(fs::absolute(file).parent_path()) / file.filename(); }
+fs::path NameKey(const fs::path& file) {
+  std::error_code ec;
+  return Resolved(fs::absolute(file, ec).parent_path()) / file.filename();
+}
 
 // One folder under two names: the same resolved path, or the same folder reached
 // another way (a bind mount).
@@ -47,11 +50,11 @@ bool IsSystemFolder(const fs::path& folder) {
   static const std::array<std::string_view, 12> kSystem = {"/bin", "/boot", "/dev",   "/etc", "/lib",  "/lib32",
                                                            "/lib64", "/libx32", "/proc", "/sbin", "/sys", "/usr"};
   // Folders that hold others' folders: not they, but a folder below them may be the user's.
-  static const std::array<std::string_view, 6> kTop = {"/home", "/opt", "/run", "/srv", "/var", "/media"};
+  static const std::array<std::string_view, 7> kTop = {"/home", "/media", "/mnt", "/opt", "/run", "/srv", "/var"};
   const fs::path p = Resolved(folder);
   if (p == p.root_path()) return true;
   if (std::any_of(kTop.begin(), kTop.end(), [&](std::string_view t) { return p == fs::path(t); })) return true;
-  if (Under(p, "/dev/shm") && p != fs::path("/dev/shm")) return false;  // shared memory: scratch space of its users
+  if (Under(p, "/dev/shm")) return false;  // shared memory: scratch space, as /tmp
   return std::any_of(kSystem.begin(), kSystem.end(), [&](std::string_view s) { return Under(p, fs::path(s)); });
 }
 
@@ -67,15 +70,16 @@ void OutputPlan::ReadsFolder(const fs::path& folder, const std::string& role) {
 }
 
 void OutputPlan::WritesFolder(const fs::path& folder, const std::string& role) {
-  write_folders_.push_back({folder, Resolved(folder), role, ""});
+  write_folders_.push_back({folder, folder.empty() ? fs::path() : Resolved(folder), role, ""});
 }
 
 void OutputPlan::Writes(const fs::path& file, const std::string& role, const std::string& signature) {
-  writes_.push_back({file, NameKey(file), role, signature});
+  writes_.push_back({file, file.empty() ? fs::path() : NameKey(file), role, signature});
 }
 
 void OutputPlan::CheckFolder(const Entry& w) const {
   const std::string what = w.role + " " + w.path.string();
+  if (w.path.empty()) throw InputError(w.role + ": an empty path");
   if (IsSystemFolder(w.key)) {
     throw InputError(what + ": " + w.key.string() + " is a system folder; write into a folder of your own");
   }
@@ -89,6 +93,7 @@ void OutputPlan::CheckFolder(const Entry& w) const {
 
 void OutputPlan::CheckFile(const Entry& w, std::size_t index) const {
   const std::string what = w.role + " " + w.path.string();
+  if (w.path.empty()) throw InputError(w.role + ": an empty path");
   if (!w.path.has_filename()) throw InputError(what + ": names a folder, not a file");
   const fs::path folder = w.key.parent_path();
   if (IsSystemFolder(folder)) {
@@ -101,17 +106,13 @@ void OutputPlan::CheckFile(const Entry& w, std::size_t index) const {
     }
   }
   for (const Entry& r : reads_) {
-    if (w.key == r.key) {
+    std::error_code ec;  // the same file under a name of another case (vfat), a bind mount, a hard link
+    if (w.key == r.key || fs::equivalent(w.path, r.path, ec)) {
       throw InputError(what + " is " + r.role + " (" + r.path.string() + "): it is read, and writing would destroy " +
                        "it; choose another file");
     }
   }
-  for (std::size_t i = 0; i < index; ++i) {
-    if (w.key == writes_[i].key) {
-      throw InputError(what + " is also " + writes_[i].role + " (" + writes_[i].path.string() +
-                       "): one would replace the other; choose another name");
-    }
-  }
+  CheckAgainstOtherOutputs(w, index);
   // An output folder's file is the folder's: whatever is under its name is replaced
   // (a folder there fails that output alone when it is written, as its writer says).
   if (w.signature.empty()) return;
@@ -126,6 +127,28 @@ void OutputPlan::CheckFile(const Entry& w, std::size_t index) const {
   if (existing.size() < n || existing.Read(0, n) != w.signature) {
     throw InputError(what + " exists and is not a file this command writes (it would be replaced and lost); remove " +
                      "it first, or choose another name");
+  }
+}
+
+// Two outputs under one name, or one where another needs a folder.
+void OutputPlan::CheckAgainstOtherOutputs(const Entry& w, std::size_t index) const {
+  const std::string what = w.role + " " + w.path.string();
+  for (const Entry& f : write_folders_) {
+    if (SameFolder(w.key, f.key) || Under(f.key, w.key)) {
+      throw InputError(what + ": " + f.role + " " + f.path.string() + " is a folder there; choose another name");
+    }
+  }
+  for (std::size_t i = 0; i < index; ++i) {  // each pair once, blaming the later (an option's, added last)
+    const Entry& o = writes_[i];
+    if (w.key == o.key) {
+      throw InputError(what + " is also " + o.role + " (" + o.path.string() + "): one would replace the other; " +
+                       "choose another name");
+    }
+    if (Under(w.key, o.key) || Under(o.key, w.key)) {
+      const bool inside = Under(w.key, o.key);
+      throw InputError(what + (inside ? " would be inside " : " would hold ") + o.role + " (" + o.path.string() +
+                       "), a file; choose another name");
+    }
   }
 }
 

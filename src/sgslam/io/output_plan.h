@@ -46,6 +46,7 @@ class OutputPlan {
   };
   void CheckFolder(const Entry& folder) const;
   void CheckFile(const Entry& file, std::size_t index) const;
+  void CheckAgainstOtherOutputs(const Entry& file, std::size_t index) const;
 
   std::vector<Entry> reads_, read_folders_, write_folders_, writes_;
 };

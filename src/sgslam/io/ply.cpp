@@ -9,7 +9,7 @@
 
 #include "sgslam/common/error.h"
 #include "sgslam/common/regular_file.h"
-#include "sgslam/io/text_file.h"
+#include "sgslam/io/atomic_write.h"
 
 namespace sgslam {
 

@@ -1,5 +1,4 @@
-// Reading the line-based text files of the TUM layout, and saving files so that a
-// crash or a full disk never leaves a half-written result behind.
+// Reading the line-based text files of the TUM layout (writing files: atomic_write.h).
 #pragma once
 
 #include <filesystem>
@@ -26,17 +25,5 @@ void ForEachDataLine(const std::filesystem::path& path,
 
 // Parses a double; throws ParseError(path, line) naming the field when it is not one.
 double ParseNumber(std::string_view token, const std::filesystem::path& path, int line, const char* what);
-
-// Writes to a new uniquely named file beside path (created exclusively, so a
-// planted link is never followed) and renames it over path, so readers see the old
-// or the new file, never a torn one; the temporary file is removed on failure. Throws InputError naming the path on failure.
-// The temporary files of path that a killed writer left are removed first
-// (RemoveStaleTempFiles).
-void WriteFileAtomically(const std::filesystem::path& path, const std::string& content);
-
-// Removes the files "<path>.tmp.<pid>.<suffix>" (the temporary names of the writers
-// of path) whose writer is gone: no process <pid>, or one started after the file
-// was last written (the id reused). Only SIGKILL or a power cut leaves them.
-void RemoveStaleTempFiles(const std::filesystem::path& path);
 
 }  // namespace sgslam

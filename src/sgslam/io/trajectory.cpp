@@ -6,6 +6,7 @@
 #include <string>
 
 #include "sgslam/common/error.h"
+#include "sgslam/io/atomic_write.h"
 #include "sgslam/io/text_file.h"
 
 namespace sgslam {

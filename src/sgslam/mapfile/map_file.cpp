@@ -18,7 +18,7 @@
 #include "sgslam/common/error.h"
 #include "sgslam/common/regular_file.h"
 #include "sgslam/common/sha256.h"
-#include "sgslam/io/text_file.h"
+#include "sgslam/io/atomic_write.h"
 #include "sgslam/mapfile/map_check.h"
 
 namespace sgslam::mapfile {

@@ -8,7 +8,7 @@
 #include <sstream>
 
 #include "sgslam/common/error.h"
-#include "sgslam/io/text_file.h"
+#include "sgslam/io/atomic_write.h"
 
 namespace sgslam {
 

@@ -12,8 +12,9 @@
 #include <vector>
 
 #include "sgslam/common/error.h"
+#include "sgslam/common/regular_file.h"
 #include "sgslam/detection/detections_file.h"
-#include "sgslam/io/text_file.h"
+#include "sgslam/io/atomic_write.h"
 #include "sgslam/io/trajectory.h"
 #include "sgslam/synth/presets.h"
 #include "sgslam/synth/sequence.h"
@@ -37,13 +38,26 @@ struct FrameResult {
   double dynamic_fraction = 0;
 };
 
+constexpr char kCameraYamlHeader[] = "# camera of the synthetic sequence written by sgslam synth\n";
+
+// --force replaces what synth wrote before, never a dataset of the same layout
+// that synth did not write (a user's own rgb.txt, groundtruth.txt, images).
 void CheckOutputFolder(const fs::path& out, bool force) {
   std::error_code ec;
   if (!fs::exists(out, ec)) return;
   if (!fs::is_directory(out, ec)) throw InputError("synth: output path exists and is not a folder: " + out.string());
-  if (!force && !fs::is_empty(out, ec)) {
+  if (fs::is_empty(out, ec)) return;
+  if (!force) {
     throw InputError("synth: output folder is not empty: " + out.string() +
                      " (use --force to replace the files sgslam synth writes there)");
+  }
+  if (WrittenBySynth(out)) return;
+  for (const char* name : {"rgb.txt", "depth.txt", "mask.txt", "associations.txt", "groundtruth.txt", "detections.txt",
+                           "objects_gt.json", "sgslam.yaml", "rgb", "depth", "mask"}) {
+    if (fs::exists(out / name, ec)) {
+      throw InputError("synth --force: " + (out / name).string() + " was not written by sgslam synth (" +
+                       (out / "sgslam.yaml").string() + " is not synth's); choose another folder");
+    }
   }
 }
 
@@ -156,7 +170,6 @@ void WriteLists(const SynthSequence& seq, const std::vector<FrameResult>& result
   WriteTumTrajectory(out / "groundtruth.txt", groundtruth);
   WriteDetectionsFile(out / "detections.txt", detections);
   WriteFileAtomically(out / "objects_gt.json", ObjectsJson(seq, frames));
-  WriteFileAtomically(out / "sgslam.yaml", CameraYaml(seq.readout()));
 }
 
 }  // namespace
@@ -164,7 +177,7 @@ void WriteLists(const SynthSequence& seq, const std::vector<FrameResult>& result
 std::string CameraYaml(double readout) {
   const std::string shutter = "  readout: " + FormatSeconds(readout) +
                               (readout > 0 ? "  # s, rendered with a rolling shutter\n" : "  # rendered with a global shutter\n");
-  return "# camera of the synthetic sequence written by sgslam synth\n"
+  return std::string(kCameraYamlHeader) +
          "camera:\n"
          "  width: 640\n"
          "  height: 480\n"
@@ -186,12 +199,22 @@ std::string CameraYaml(double readout) {
          "  backend: file\n";
 }
 
+bool WrittenBySynth(const fs::path& folder) {
+  const fs::path yaml = folder / "sgslam.yaml";
+  if (!WhyNotRegularFile(yaml).empty()) return false;
+  const RegularFile file(yaml, "sgslam.yaml");
+  const std::size_t n = sizeof kCameraYamlHeader - 1;
+  return file.size() >= n && file.Read(0, n) == kCameraYamlHeader;
+}
+
 SynthSummary GenerateSequence(const SynthOptions& options, const fs::path& out) {
   const auto start = std::chrono::steady_clock::now();
   const PresetDefaults d = DefaultsOf(options.preset);  // checks the preset first
   const SynthSequence seq(options.preset, options.seed, options.frames.value_or(d.frames),
                           options.readout.value_or(d.readout), options.depth_noise.value_or(d.depth_noise));
   CheckOutputFolder(out, options.force);
+  // First, so that a folder left by a synth killed part-way is known as synth's.
+  WriteFileAtomically(out / "sgslam.yaml", CameraYaml(seq.readout()));
   for (const char* sub : {"rgb", "depth", "mask"}) {
     std::error_code ec;
     fs::create_directories(out / sub, ec);

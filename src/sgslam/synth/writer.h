@@ -23,7 +23,7 @@ struct SynthOptions {
   std::string preset = "walkers";  // one of PresetNames()
   std::uint32_t seed = 1;          // scene layout, textures, paths and noise
   std::optional<int> frames;       // at 30 Hz
-  bool force = false;              // write into a non-empty folder, replacing only our files
+  bool force = false;              // write into a non-empty folder, replacing only what synth wrote there
   int threads = 2;                 // render workers
   std::optional<double> readout;   // s, rolling-shutter readout (synth/sequence.h); 0: global shutter
   std::optional<DepthNoise> depth_noise;
@@ -44,9 +44,13 @@ struct SynthSummary {
   bool stopped = false;  // options.stop ended it early: `frames` of the sequence's were written
 };
 
-// Throws InputError for a bad preset, frames <= 0, a bad readout, a non-empty folder without force,
-// or any file that cannot be written (naming it).
+// Throws InputError for a bad preset, frames <= 0, a bad readout, a non-empty folder
+// without force or, with force, holding files of the layout that synth did not write
+// (WrittenBySynth), or any file that cannot be written (naming it).
 SynthSummary GenerateSequence(const SynthOptions& options, const std::filesystem::path& out);
+
+// True when folder's sgslam.yaml is one sgslam synth wrote (it writes it first).
+bool WrittenBySynth(const std::filesystem::path& folder);
 
 // The camera section of sgslam.yaml, as written, with its readout (s).
 std::string CameraYaml(double readout = 0);

@@ -13,7 +13,7 @@
 #include "sgslam/common/regular_file.h"
 #include "sgslam/common/sha256.h"
 #include "sgslam/features/hamming.h"
-#include "sgslam/io/text_file.h"
+#include "sgslam/io/atomic_write.h"
 
 namespace sgslam::vocab {
 
