@@ -1,5 +1,5 @@
 // sgslam run: process an RGB-D sequence and write the outputs of the contract in
-// architecture.md (see run_pipeline.h).
+// docs/architecture.md, "Outputs" (see run_pipeline.h).
 #include <CLI/CLI.hpp>
 #include <charconv>
 #include <cstdint>

@@ -1,4 +1,4 @@
-// The files `sgslam run` writes at the end (architecture.md's output contract),
+// The files `sgslam run` writes at the end (docs/architecture.md, "Outputs"),
 // each from the frame reports or the finished system.
 #pragma once
 

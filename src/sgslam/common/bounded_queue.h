@@ -1,5 +1,5 @@
-// The one bounded queue for passing messages between threads (architecture.md,
-// "Threads and data flow"; Basalt's typed queues): a blocking pop, a Shutdown()
+// The one bounded queue for passing messages between threads (docs/architecture.md,
+// "Threads and queues"; Basalt's typed queues): a blocking pop, a Shutdown()
 // that wakes every waiter, and what a full queue does with a new item:
 //   kBlock       the producer waits for room (local mapping's keyframes, the reader);
 //   kDropOldest  the oldest item is dropped and counted: a live system behind the

@@ -1,6 +1,6 @@
 // Typed errors for set-up and I/O problems. The message always names the file,
 // key or value at fault; the library never calls exit(). The per-frame path
-// returns states instead of throwing (see architecture.md, "Conventions").
+// returns states instead of throwing (see docs/architecture.md, "Conventions").
 #pragma once
 
 #include <stdexcept>

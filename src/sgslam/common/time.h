@@ -1,4 +1,4 @@
-// Timestamps are int64 nanoseconds everywhere (architecture.md). TUM files write
+// Timestamps are int64 nanoseconds everywhere (docs/architecture.md, "Conventions"). TUM files write
 // seconds with up to 9 decimals; parsing the decimal text directly keeps them exact,
 // so association and file round trips never suffer from double rounding.
 #pragma once

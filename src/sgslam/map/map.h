@@ -1,6 +1,6 @@
 // The map: owner of every keyframe and map point.
 //
-// Lock order and rules (architecture.md): one map-level shared_mutex guards every
+// Lock order and rules (docs/architecture.md, "Locks and atomics"): one map-level shared_mutex guards every
 // [map] field of keyframes and map points. Tracking reads under a shared lock and
 // takes it exclusively only to insert a keyframe; local mapping reads under a
 // shared lock and writes (new points, fusion, culling, BA results) under an

@@ -1,5 +1,5 @@
-// What a live viewer or a ROS node reads of a running system (architecture.md:
-// "snapshots the system publishes"): immutable copies, so that a reader never
+// What a live viewer or a ROS node reads of a running system (docs/architecture.md,
+// "Snapshots"): immutable copies, so that a reader never
 // locks the map nor slows tracking down. SlamSystem::EnableSnapshots() turns the
 // publishing on; LatestFrame() and SnapshotMap() may then be called from any thread.
 #pragma once
