@@ -9,6 +9,7 @@
 #include "semantic_output.h"
 #include "sgslam/common/stats.h"
 #include "sgslam/common/error.h"
+#include "sgslam/config/yaml_io.h"
 #include "sgslam/detection/darknet_model.h"
 #include "sgslam/detection/detections_file.h"
 #include "sgslam/io/atomic_write.h"
@@ -41,10 +42,22 @@ const std::vector<std::string>& RunOutputNames() {
   return kNames;
 }
 
+const std::vector<std::string>& LiveOutputNames() {
+  static const std::vector<std::string> kNames = {"cloud_live.ply", "octomap_live.bt"};
+  return kNames;
+}
+
+void WriteConfigUsed(const std::filesystem::path& out, const Config& config, const std::string& source) {
+  const std::string yaml = "# effective configuration of this run (source: " + source + ")\n" + ConfigToYaml(config);
+  spdlog::debug("effective configuration:\n{}", yaml);
+  WriteFileAtomically(out / "config_used.yaml", yaml);
+}
+
 void PlanRunOutputs(OutputPlan& plan, const Config& config, const std::filesystem::path& out, const std::string& role,
                     const std::filesystem::path& detections_dir) {
   plan.WritesFolder(out, role);
   for (const std::string& name : RunOutputNames()) plan.Writes(out / name, "the run's " + name);
+  for (const std::string& name : LiveOutputNames()) plan.Writes(out / name, "the run's " + name);
   const DetectorConfig& d = config.detector;
   if (d.backend == "file") {
     plan.Reads(d.detections_file.empty() ? detections_dir / "detections.txt" : std::filesystem::path(d.detections_file),
@@ -84,6 +97,35 @@ RunMaps WriteSystemOutputs(const std::filesystem::path& out, SlamSystem& system,
                [&] { maps.semantic = WriteSemanticMap(out, system, maps.trajectory, print_objects, each); });
   }
   return maps;
+}
+
+void RequestLiveOctoMap(const std::filesystem::path& out, SemanticMapper& semantic) {
+  semantic.RequestOctoMap(out / "octomap_live.bt");
+}
+
+void WriteLiveOutputs(const std::filesystem::path& out, SlamSystem& system, const std::vector<FrameReport>& reports,
+                      FailedOutputs& failed) {
+  failed.Try("frames.csv", [&] { WriteFramesCsv(out / "frames.csv", reports); });
+  failed.Try("trajectory.txt", [&] { WriteTumTrajectory(out / "trajectory.txt", system.FrameTrajectory()); });
+  failed.Try("keyframes.txt", [&] { WriteTumTrajectory(out / "keyframes.txt", system.KeyFrameTrajectory()); });
+  failed.Try("map_points.ply", [&] { WritePly(out / "map_points.ply", system.MapPointPositions()); });
+  SemanticMapper* sem = system.semantic();
+  if (sem == nullptr) return;
+  const MapSnapshot map = system.SnapshotMap();
+  failed.Try("cloud_live.ply", [&] {
+    std::vector<Eigen::Vector3d> points;
+    std::vector<Rgb> colours;
+    for (const CloudPiece& piece : map.cloud) {
+      if (!piece.points_c) continue;
+      for (const ColoredPoint& p : *piece.points_c) {
+        points.push_back(piece.T_w_c * p.p.cast<double>());
+        colours.push_back(p.rgb);
+      }
+    }
+    WritePly(out / "cloud_live.ply", points, colours);
+  });
+  failed.Try("objects.json", [&] { WriteObjectsJson(out / "objects.json", map.objects); });
+  RequestLiveOctoMap(out, *sem);
 }
 
 void WriteFramesCsv(const std::filesystem::path& path, const std::vector<FrameReport>& reports) {
@@ -139,6 +181,8 @@ nlohmann::json WriteSemanticMap(const std::filesystem::path& out, SlamSystem& sy
           {"octomap_occupied_leaves", sem->octomap().OccupiedLeaves()},
           {"objects", std::count_if(objects.begin(), objects.end(), [](const auto& e) { return e.exported; })}};
 }
+
+namespace {
 
 double MedianFrameMs(const std::vector<FrameReport>& reports) {
   return MedianOf(reports, &FrameReport::total_ms).get<double>();
@@ -236,6 +280,52 @@ nlohmann::json LoopJson(const std::vector<FrameReport>& reports, const SlamSyste
           {"median_detect_ms", Median(std::move(detect_ms))},
           {"closed", closed},
           {"global_ba", GlobalBaJson(system)}};
+}
+
+}  // namespace
+
+RunTotals TotalsOf(const std::vector<FrameReport>& reports, const SlamSystem& system, std::size_t map_points) {
+  RunTotals t;
+  t.frames = reports.size();
+  for (const FrameReport& r : reports) {
+    t.tracked += r.state == TrackState::kOk;
+    t.lost += r.state == TrackState::kLost;
+  }
+  t.keyframes = system.NumKeyFrames();
+  t.map_points = map_points;
+  t.median_frame_ms = MedianFrameMs(reports);
+  t.peak_rss_mib = PeakRssMiB();
+  return t;
+}
+
+nlohmann::json SystemStatsJson(const Config& config, const RunTotals& totals, const std::vector<FrameReport>& reports,
+                               const SlamSystem& system) {
+  nlohmann::json stats = {{"mode", config.dynamic.mode},
+                          {"frames", totals.frames},
+                          {"tracked", totals.tracked},
+                          {"lost", totals.lost},
+                          {"keyframes", totals.keyframes},
+                          {"map_points", totals.map_points},
+                          {"median_ms", MedianMsJson(reports, totals.median_frame_ms)},
+                          {"peak_rss_mib", totals.peak_rss_mib},
+                          {"dynamic", DynamicJson(reports, system)},
+                          {"local_mapping", LocalMappingJson(system)},
+                          {"loop", LoopJson(reports, system)}};
+  if (const auto& gba = system.final_ba(); gba && gba->local_keyframes > 0) {
+    spdlog::info("final bundle adjustment: {} keyframes, {} points, {:.2f} s", gba->local_keyframes, gba->local_points,
+                 gba->ms / 1000.0);
+    stats["final_ba"] = {{"ms", gba->ms}, {"keyframes", gba->local_keyframes}, {"points", gba->local_points}};
+  }
+  return stats;
+}
+
+void WriteStatsJson(const std::filesystem::path& out, nlohmann::json stats, const nlohmann::json& semantic,
+                    const std::string& ended, const std::string& failure, FailedOutputs& failed) {
+  if (!semantic.is_null()) stats["semantic"] = semantic;
+  if (!failure.empty()) stats["error"] = failure;
+  stats["ended"] = failure.empty() ? ended : "failed: " + failure;
+  if (!failed.names.empty()) stats["failed_outputs"] = failed.names;
+  failed.Try("stats.json", [&] { WriteFileAtomically(out / "stats.json", stats.dump(2) + "\n"); });
 }
 
 nlohmann::json LiveJson(std::size_t dropped, const std::vector<double>& latency_ms) {

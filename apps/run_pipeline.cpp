@@ -17,15 +17,12 @@
 #include "stop_signals.h"
 #include "sgslam/common/error.h"
 #include "sgslam/common/stats.h"
-#include "sgslam/config/yaml_io.h"
 #include "sgslam/detection/detector.h"
 #include "sgslam/detection/people_scale.h"
 #include "sgslam/eval/ate.h"
 #include "sgslam/eval/evaluate.h"
-#include "sgslam/io/atomic_write.h"
 #include "sgslam/io/frame_stream.h"
 #include "sgslam/io/output_plan.h"
-#include "sgslam/io/ply.h"
 #include "sgslam/io/trajectory.h"
 #include "sgslam/mapfile/map_file.h"
 #include "sgslam/system/run_config.h"
@@ -42,8 +39,8 @@ std::atomic<bool> g_octomap_requested{false};
 extern "C" void OnOctoMapRequest(int) { g_octomap_requested = true; }
 
 // The run's signals (stop_signals.h), and SIGUSR1 (`kill -USR1 <pid>`), which asks
-// for the OctoMap built so far, in octomap.bt, and for the map in the --save-map
-// file; the previous handler comes back on scope exit.
+// for the OctoMap built so far, in octomap_live.bt (run_outputs.h), and for the map
+// in the --save-map file; the previous handler comes back on scope exit.
 class InterruptGuard {
  public:
   InterruptGuard() : previous_usr1_(std::signal(SIGUSR1, OnOctoMapRequest)) { g_octomap_requested = false; }
@@ -208,7 +205,7 @@ FrameLoop RunFrames(const RunOptions& o, const TumDataset& dataset, const Config
       progress.Update(loop.reports.size(), loop.reports.size() / (wall.ElapsedMs() * 1e-3));
       if (g_octomap_requested.exchange(false)) {
         if (SemanticMapper* sem = system.semantic()) {
-          sem->RequestOctoMap(out / "octomap.bt");
+          RequestLiveOctoMap(out, *sem);
         } else if (o.save_map.empty()) {
           spdlog::warn("OctoMap requested (SIGUSR1), but the semantic thread is off (semantic.enabled)");
         }
@@ -250,40 +247,27 @@ void AddAte(const TumDataset& dataset, const Trajectory& trajectory, RunSummary&
   }
 }
 
-// stats.json (but its semantic section), and the summary's counts into s.
+// stats.json (but its semantic section and how the run ended: WriteStatsJson), and
+// the summary's counts into s.
 nlohmann::json RunStats(const RunOptions& o, const Config& config, const TumDataset& dataset, const FrameLoop& loop,
-                        const SlamSystem& system, const Trajectory& trajectory, const TruthScorer& truth,
-                        double seconds, RunSummary& s) {
-  s.frames = loop.reports.size();
-  for (const auto& r : loop.reports) {
-    s.tracked += r.state == TrackState::kOk;
-    s.lost += r.state == TrackState::kLost;
-  }
-  s.keyframes = system.NumKeyFrames();
-  s.median_frame_ms = MedianFrameMs(loop.reports);
+                        const SlamSystem& system, const RunMaps& maps, const TruthScorer& truth, double seconds,
+                        RunSummary& s) {
+  const RunTotals totals = TotalsOf(loop.reports, system, maps.map_points);
+  s.frames = totals.frames;
+  s.tracked = totals.tracked;
+  s.lost = totals.lost;
+  s.keyframes = totals.keyframes;
+  s.map_points = totals.map_points;
+  s.median_frame_ms = totals.median_frame_ms;
+  s.peak_rss_mib = totals.peak_rss_mib;
   s.fps = seconds > 0 ? s.frames / seconds : 0.0;
-  s.peak_rss_mib = PeakRssMiB();
-  nlohmann::json stats = {{"dataset", dataset.dir().string()},
-                          {"mode", config.dynamic.mode},
-                          {"sequential", o.sequential},
-                          {"realtime", o.realtime},
-                          {"frames", s.frames},
-                          {"tracked", s.tracked},
-                          {"lost", s.lost},
-                          {"keyframes", s.keyframes},
-                          {"map_points", s.map_points},
-                          {"median_ms", MedianMsJson(loop.reports, s.median_frame_ms)},
-                          {"fps", s.fps},
-                          {"peak_rss_mib", s.peak_rss_mib},
-                          {"dynamic", DynamicJson(loop.reports, system)},
-                          {"local_mapping", LocalMappingJson(system)},
-                          {"loop", LoopJson(loop.reports, system)}};
+  nlohmann::json stats = SystemStatsJson(config, totals, loop.reports, system);
+  stats["dataset"] = dataset.dir().string();
+  stats["sequential"] = o.sequential;
+  stats["realtime"] = o.realtime;
+  stats["fps"] = s.fps;
   if (nlohmann::json t = truth.RejectionJson(); !t.is_null()) stats["dynamic"]["truth"] = t;
-  if (const auto& gba = system.final_ba(); gba && gba->local_keyframes > 0) {
-    spdlog::info("final bundle adjustment: {} keyframes, {} points, {:.2f} s", gba->local_keyframes, gba->local_points,
-                 gba->ms / 1000.0);
-    stats["final_ba"] = {{"ms", gba->ms}, {"keyframes", gba->local_keyframes}, {"points", gba->local_points}};
-  }
+  const Trajectory& trajectory = maps.trajectory;
   AddAte(dataset, trajectory, s, stats);
   if (o.realtime) {
     stats["live"] = LiveJson(loop.dropped, loop.latency_ms);
@@ -300,13 +284,6 @@ nlohmann::json RunStats(const RunOptions& o, const Config& config, const TumData
   }
   return stats;
 }
-
-void WriteConfigUsed(const RunConfig& rc, const fs::path& out) {
-  const std::string yaml = "# effective configuration of this run (source: " + rc.source + ")\n" + ConfigToYaml(rc.config);
-  spdlog::debug("effective configuration:\n{}", yaml);
-  WriteFileAtomically(out / "config_used.yaml", yaml);
-}
-
 
 // The semantic scores against ground-truth masks, into semantic["truth"]. Scoring
 // rereads masks and depth; one that cannot be read costs the scores (warned), not
@@ -361,7 +338,7 @@ RunSummary RunSequence(const RunOptions& o) {
   s.out = MakeOutputFolder(o, rc, dataset);
   spdlog::info("dataset {}: {} RGB-D frames ({}), config: {}", dataset.dir().string(), dataset.size(),
                dataset.associations_from_file() ? "associations.txt" : "associated by timestamp", rc.source);
-  WriteConfigUsed(rc, s.out);
+  WriteConfigUsed(s.out, rc.config, rc.source);
 
   std::unique_ptr<Detector> detector = LoadDetector(config, o.dataset);
   const bool has_detector = detector != nullptr;
@@ -400,19 +377,14 @@ RunSummary RunSequence(const RunOptions& o) {
 
   FailedOutputs failed;
   const RunMaps maps = WriteOutputs(o, config, dataset, loop, system, truth, has_detector, s.out, failed);
-  s.map_points = maps.map_points;
-  nlohmann::json stats = RunStats(o, config, dataset, loop, system, maps.trajectory, truth, seconds, s);
-  if (!maps.semantic.is_null()) stats["semantic"] = maps.semantic;
-  if (!loop.failure.empty()) stats["error"] = loop.failure;
-  stats["ended"] = !loop.failure.empty() ? "failed: " + loop.failure
-                   : loop.stopped_by    ? std::string("interrupted by ") + SignalName(loop.stopped_by)
-                                        : std::string("completed");
+  const nlohmann::json stats = RunStats(o, config, dataset, loop, system, maps, truth, seconds, s);
   s.stopped_by = loop.stopped_by;
   if (s.frames > 0 && s.tracked == 0) {
     spdlog::warn("no frame was tracked: the map never started, so trajectory.txt and the maps are empty");
   }
-  if (!failed.names.empty()) stats["failed_outputs"] = failed.names;
-  failed.Try("stats.json", [&] { WriteFileAtomically(s.out / "stats.json", stats.dump(2) + "\n"); });
+  WriteStatsJson(s.out, stats, maps.semantic,
+                 loop.stopped_by ? std::string("interrupted by ") + SignalName(loop.stopped_by) : "completed",
+                 loop.failure, failed);
   if (!failed.names.empty()) {
     throw InputError("outputs not written: " + failed.Joined() + " (the others are in " + s.out.string() + ")");
   }

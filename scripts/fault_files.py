@@ -272,6 +272,7 @@ CHECKERS = {
     "frames.csv": check_csv, "stats.json": check_json, "objects.json": check_json,
     "map_points.ply": check_ply, "cloud.ply": check_ply, "map_top.png": check_png,
     "octomap.bt": check_octomap, "config_used.yaml": check_text_complete, "detections.txt": check_text_complete,
+    "cloud_live.ply": check_ply, "octomap_live.bt": check_octomap,
 }
 
 

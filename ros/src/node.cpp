@@ -388,7 +388,7 @@ bool SlamNode::Finish(const std::string& ended) {
   } else {
     spdlog::warn("sgslam_ros: no frame was processed: no outputs but config_used.yaml and stats.json");
     try {
-      WriteStatsWithoutFrames(out_, ended, failure_, live);
+      written = WriteStatsWithoutFrames(out_, ended, failure_, live);
     } catch (const std::exception& e) {
       spdlog::error("stats.json not written: {}", e.what());
       written = false;

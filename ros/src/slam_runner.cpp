@@ -5,15 +5,10 @@
 #include <spdlog/spdlog.h>
 
 #include "run_outputs.h"
-#include "semantic_output.h"
 #include "sgslam/camera/presets.h"
-#include "sgslam/common/stats.h"
 #include "sgslam/config/yaml_io.h"
 #include "sgslam/detection/detector.h"
-#include "sgslam/io/atomic_write.h"
 #include "sgslam/io/output_plan.h"
-#include "sgslam/io/ply.h"
-#include "sgslam/io/trajectory.h"
 #include "sgslam/system/run_config.h"
 #include "sgslam/system/slam_system.h"
 
@@ -52,20 +47,19 @@ void CheckNodeOutputs(const NodeConfig& c, const fs::path& out) {
   plan.Check();
 }
 
-void WriteStatsWithoutFrames(const fs::path& out, const std::string& ended, const std::string& failure,
+bool WriteStatsWithoutFrames(const fs::path& out, const std::string& ended, const std::string& failure,
                              const LiveStats& live) {
-  nlohmann::json stats = {{"source", "ros"},
-                          {"topics", live.topics},
-                          {"frames", 0},
-                          {"live", {{"dropped", live.dropped}, {"refused", live.refused}}},
-                          {"ended", failure.empty() ? ended : "failed: " + failure}};
-  if (!failure.empty()) stats["error"] = failure;
-  WriteFileAtomically(out / "stats.json", stats.dump(2) + "\n");
+  const nlohmann::json stats = {{"source", "ros"},
+                                {"topics", live.topics},
+                                {"frames", 0},
+                                {"live", {{"dropped", live.dropped}, {"refused", live.refused}}}};
+  FailedOutputs failed;
+  app::WriteStatsJson(out, stats, nullptr, ended, failure, failed);
+  return failed.names.empty();
 }
 
 void WriteConfigUsed(const Config& config, const std::string& source, const fs::path& out) {
-  WriteFileAtomically(out / "config_used.yaml",
-                      "# effective configuration of this run (source: " + source + ")\n" + ConfigToYaml(config));
+  app::WriteConfigUsed(out, config, source);
 }
 
 struct SlamRunner::Impl {
@@ -75,8 +69,7 @@ struct SlamRunner::Impl {
   std::unique_ptr<SlamSystem> system;
   std::vector<FrameReport> reports;
 
-  nlohmann::json Stats(const std::string& ended, const std::string& failure, const LiveStats& live,
-                       const app::RunMaps& maps) const;
+  nlohmann::json Stats(const LiveStats& live, const app::RunMaps& maps) const;
 };
 
 SlamRunner::SlamRunner(const Config& config, bool sequential, std::unique_ptr<Detector> detector, fs::path out)
@@ -104,33 +97,11 @@ MapSnapshot SlamRunner::SnapshotMap() const { return impl_->system->SnapshotMap(
 std::string SlamRunner::DescribeDetector() const { return impl_->system->DescribeDetector(); }
 
 std::string SlamRunner::SaveNow() {
-  SlamSystem& system = *impl_->system;
-  const fs::path& out = impl_->out;
   FailedOutputs failed;
-  failed.Try("frames.csv", [&] { app::WriteFramesCsv(out / "frames.csv", impl_->reports); });
-  failed.Try("trajectory.txt", [&] { WriteTumTrajectory(out / "trajectory.txt", system.FrameTrajectory()); });
-  failed.Try("keyframes.txt", [&] { WriteTumTrajectory(out / "keyframes.txt", system.KeyFrameTrajectory()); });
-  failed.Try("map_points.ply", [&] { WritePly(out / "map_points.ply", system.MapPointPositions()); });
-  if (SemanticMapper* sem = system.semantic()) {
-    const MapSnapshot map = system.SnapshotMap();
-    failed.Try("cloud.ply", [&] {
-      std::vector<Eigen::Vector3d> points;
-      std::vector<Rgb> colours;
-      for (const CloudPiece& piece : map.cloud) {
-        if (!piece.points_c) continue;
-        for (const ColoredPoint& p : *piece.points_c) {
-          points.push_back(piece.T_w_c * p.p.cast<double>());
-          colours.push_back(p.rgb);
-        }
-      }
-      WritePly(out / "cloud.ply", points, colours);
-    });
-    failed.Try("objects.json", [&] { app::WriteObjectsJson(out / "objects.json", map.objects); });
-    sem->RequestOctoMap(out / "octomap.bt");
-  }
+  app::WriteLiveOutputs(impl_->out, *impl_->system, impl_->reports, failed);
   if (!failed.names.empty()) return "not written: " + failed.Joined();
-  return fmt::format("written to {} ({} frames){}", out.string(), impl_->reports.size(),
-                     system.semantic() ? "; octomap.bt follows after the semantic thread's current keyframe" : "");
+  return fmt::format("written to {} ({} frames){}", impl_->out.string(), impl_->reports.size(),
+                     semantic() ? "; octomap_live.bt follows after the semantic thread's current keyframe" : "");
 }
 
 bool SlamRunner::Finish(const std::string& ended, const std::string& failure, const LiveStats& live) {
@@ -138,34 +109,19 @@ bool SlamRunner::Finish(const std::string& ended, const std::string& failure, co
   FailedOutputs failed;
   const app::RunMaps maps = app::WriteSystemOutputs(impl_->out, *impl_->system, impl_->reports, impl_->has_detector,
                                                     false, failed);
-  nlohmann::json stats = impl_->Stats(failure.empty() ? ended : "failed: " + failure, failure, live, maps);
-  if (!failed.names.empty()) stats["failed_outputs"] = failed.names;
-  failed.Try("stats.json", [&] { WriteFileAtomically(impl_->out / "stats.json", stats.dump(2) + "\n"); });
+  app::WriteStatsJson(impl_->out, impl_->Stats(live, maps), maps.semantic, ended, failure, failed);
   return failed.names.empty();
 }
 
-nlohmann::json SlamRunner::Impl::Stats(const std::string& ended, const std::string& failure, const LiveStats& live,
-                                       const app::RunMaps& maps) const {
-  std::size_t tracked = 0, lost = 0;
-  for (const FrameReport& r : reports) tracked += r.state == TrackState::kOk, lost += r.state == TrackState::kLost;
-  nlohmann::json stats = {{"source", "ros"},
-                          {"topics", live.topics},
-                          {"mode", config.dynamic.mode},
-                          {"frames", reports.size()},
-                          {"tracked", tracked},
-                          {"lost", lost},
-                          {"keyframes", system->NumKeyFrames()},
-                          {"map_points", maps.map_points},
-                          {"median_ms", app::MedianMsJson(reports, app::MedianFrameMs(reports))},
-                          {"peak_rss_mib", PeakRssMiB()},
-                          {"dynamic", app::DynamicJson(reports, *system)},
-                          {"local_mapping", app::LocalMappingJson(*system)},
-                          {"loop", app::LoopJson(reports, *system)},
-                          {"live", app::LiveJson(live.dropped, live.latency_ms)},
-                          {"ended", ended}};
+// stats.json's sections of `sgslam run` (run_outputs.h), the topics and the live
+// section with the frames refused as bad input.
+nlohmann::json SlamRunner::Impl::Stats(const LiveStats& live, const app::RunMaps& maps) const {
+  nlohmann::json stats =
+      app::SystemStatsJson(config, app::TotalsOf(reports, *system, maps.map_points), reports, *system);
+  stats["source"] = "ros";
+  stats["topics"] = live.topics;
+  stats["live"] = app::LiveJson(live.dropped, live.latency_ms);
   stats["live"]["refused"] = live.refused;
-  if (!maps.semantic.is_null()) stats["semantic"] = maps.semantic;
-  if (!failure.empty()) stats["error"] = failure;
   return stats;
 }
 

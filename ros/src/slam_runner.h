@@ -38,11 +38,13 @@ std::unique_ptr<Detector> LoadNodeDetector(const NodeConfig& config);
 // (io/output_plan.h); throws InputError naming both paths.
 void CheckNodeOutputs(const NodeConfig& config, const std::filesystem::path& out);
 
-// config_used.yaml in out, as `sgslam run` writes it.
+// config_used.yaml in out: `sgslam run`'s writer (apps/run_outputs.h), for node.cpp,
+// which cannot include that header.
 void WriteConfigUsed(const Config& config, const std::string& source, const std::filesystem::path& out);
 
-// stats.json of a run that processed no frame: how it ended, and why.
-void WriteStatsWithoutFrames(const std::filesystem::path& out, const std::string& ended, const std::string& failure,
+// stats.json of a run that processed no frame: how it ended, and why. False when it
+// could not be written (logged).
+bool WriteStatsWithoutFrames(const std::filesystem::path& out, const std::string& ended, const std::string& failure,
                              const struct LiveStats& live);
 
 // What the node measured of its input, for stats.json's "live" section.
@@ -68,10 +70,11 @@ class SlamRunner {
   MapSnapshot SnapshotMap() const;
   std::string DescribeDetector() const;
 
-  // Between frames: the outputs as they are now (the trajectories, the sparse map,
-  // frames.csv; the dense cloud and objects of the latest snapshot; the OctoMap
-  // after the semantic thread's current keyframe). The message tells what was done;
-  // it starts with "written" on success.
+  // Between frames: the live outputs (app::WriteLiveOutputs: trajectory.txt,
+  // keyframes.txt, map_points.ply and frames.csv as they are now; objects.json and
+  // cloud_live.ply from the latest snapshot; octomap_live.bt after the semantic
+  // thread's current keyframe). The message tells what was done; it starts with
+  // "written" on success.
   std::string SaveNow();
   // Finishes the system (its last bundle adjustment) and writes every output and
   // stats.json, with `ended` and `failure` (the error that stopped tracking, or

@@ -111,7 +111,7 @@ def check_outputs(out, poses):
     if len(lines) < poses:
         fail(f"trajectory.txt has {len(lines)} poses, {poses} were published")
     for name in ["keyframes.txt", "frames.csv", "map_points.ply", "cloud.ply", "octomap.bt", "objects.json",
-                 "config_used.yaml"]:
+                 "config_used.yaml", "cloud_live.ply", "octomap_live.bt"]:
         path = os.path.join(out, name)
         if not os.path.isfile(path) or os.path.getsize(path) == 0:
             fail(f"{name} missing or empty")
@@ -123,6 +123,18 @@ def check_outputs(out, poses):
     if leftovers:
         fail(f".tmp files left: {leftovers}")
     return stats
+
+
+def check_live_outputs(out):
+    """What the save service wrote mid-run: the live cloud under its own name, and
+    none of the filtered outputs only the end writes (a name means one content)."""
+    with open(os.path.join(out, "cloud_live.ply"), "rb") as f:
+        if not f.read(3) == b"ply":
+            fail("cloud_live.ply (the save service's) is no PLY file")
+    json.load(open(os.path.join(out, "objects.json")))
+    for name in ["cloud.ply", "octomap.bt", "stats.json"]:
+        if os.path.exists(os.path.join(out, name)):
+            fail(f"the save service wrote {name}, which only the end of the run writes")
 
 
 class RssSampler:
@@ -214,6 +226,7 @@ def run_node(args, build, work, seq, out):
         answer = rospy.ServiceProxy("/sgslam/save", Trigger)()
         if not answer.success or not os.path.isfile(os.path.join(out, "trajectory.txt")):
             fail(f"the save service answered {answer.success}: {answer.message}")
+        check_live_outputs(out)
         print(f"save service: {answer.message}")
         node_proc.send_signal(signal.SIGINT)
         code = node_proc.wait(timeout=300)
