@@ -5,7 +5,7 @@
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
 
-#include "sgslam/dynamic/rejection.h"
+#include "sgslam/dynamic/algorithm1.h"
 #include "sgslam/synth/sequence.h"
 
 namespace sgslam::dynamic {

@@ -11,7 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "sgslam/dynamic/rejection.h"
+#include "sgslam/dynamic/algorithm1.h"
+#include "sgslam/dynamic/refinements.h"
 #include "sgslam/synth/sequence.h"
 
 namespace sgslam::dynamic::test {

@@ -141,8 +141,8 @@ TEST(Motion, EpipolarTestNeedsUndistortedPairsOnTheFr1Lens) {
   c.eps_std = 1.0;
   c.depth_check = false;
   const auto keys = Keys(s);
-  const RejectionResult un = JudgePairs(Pairs(s, true), keys, {}, {}, c);
-  const RejectionResult raw = JudgePairs(Pairs(s, false), keys, {}, {}, c);
+  const RejectionResult un = JudgePairs(ParseMode(c.mode), Pairs(s, true), keys, {}, {}, c);
+  const RejectionResult raw = JudgePairs(ParseMode(c.mode), Pairs(s, false), keys, {}, {}, c);
   ASSERT_TRUE(un.fundamental && raw.fundamental);
   double worst_un = 0;
   int raw_over = 0;
@@ -164,7 +164,7 @@ TEST(Motion, DepthCheckWithPnpMotionCatchesMoversOnTheFr1Lens) {
   c.eps_std = 1e3;  // the epipolar test off: the RGB-D check alone
   c.depth_check = true;
   DepthCheckInput depth{s.prev_depth, s.cur_depth, 1.0, s.K, SE3(), {}};  // the motion comes from PnP
-  const RejectionResult r = JudgePairs(Pairs(s, true), Keys(s), {}, {}, c, &depth);
+  const RejectionResult r = JudgePairs(ParseMode(c.mode), Pairs(s, true), Keys(s), {}, {}, c, &depth);
   ASSERT_TRUE(r.motion);
   const Tally t = Count(s, r);
   std::printf("pnp depth check: %d of %d movers, %d of %d static rejected\n", t.moving_rejected, t.movers,
@@ -176,13 +176,13 @@ TEST(Motion, DepthCheckWithPnpMotionCatchesMoversOnTheFr1Lens) {
   // predicted depth wrong: a check that flags most of the frame is ignored for it...
   DepthCheckInput scaled = depth;
   scaled.prev_depth = s.prev_depth * 1.5;
-  const RejectionResult bad = JudgePairs(Pairs(s, true), Keys(s), {}, {}, c, &scaled);
+  const RejectionResult bad = JudgePairs(ParseMode(c.mode), Pairs(s, true), Keys(s), {}, {}, c, &scaled);
   EXPECT_TRUE(bad.depth_ignored);
   EXPECT_EQ(Count(s, bad).static_rejected, 0);
   EXPECT_EQ(bad.rejected_depth, 0);
   // ... unless the share limit is lifted.
   c.depth_max_share = 1.0;
-  const RejectionResult trusted = JudgePairs(Pairs(s, true), Keys(s), {}, {}, c, &scaled);
+  const RejectionResult trusted = JudgePairs(ParseMode(c.mode), Pairs(s, true), Keys(s), {}, {}, c, &scaled);
   EXPECT_FALSE(trusted.depth_ignored);
   EXPECT_GT(Count(s, trusted).static_rejected, 200);
 }
@@ -208,8 +208,8 @@ TEST(Motion, PriorCellsAreLeftOutOfTheFits) {
   DynamicConfig c;
   c.mode = "geometric";
   c.depth_check = false;
-  const RejectionResult without = JudgePairs(Pairs(s, true), keys, {}, {}, c);
-  const RejectionResult with = JudgePairs(Pairs(s, true), keys, {}, {}, c, nullptr, &prior);
+  const RejectionResult without = JudgePairs(ParseMode(c.mode), Pairs(s, true), keys, {}, {}, c);
+  const RejectionResult with = JudgePairs(ParseMode(c.mode), Pairs(s, true), keys, {}, {}, c, nullptr, &prior);
   ASSERT_TRUE(without.fundamental && with.fundamental);
   EXPECT_EQ(without.fundamental->pairs, 400);
   EXPECT_EQ(with.fundamental->pairs, 400 - left);
@@ -264,9 +264,9 @@ TEST(Motion, StaticPointsTheRgbdCheckConfirmsAreJudgedWithoutTheBoxWeight) {
     return std::pair{n, rejected};
   };
   c.confirm_static = 0;
-  const RejectionResult plain = JudgePairs(Pairs(s, true), Keys(s), box, huge, c, &depth);
+  const RejectionResult plain = JudgePairs(ParseMode(c.mode), Pairs(s, true), Keys(s), box, huge, c, &depth);
   c.confirm_static = 0.33;
-  const RejectionResult confirmed = JudgePairs(Pairs(s, true), Keys(s), box, huge, c, &depth);
+  const RejectionResult confirmed = JudgePairs(ParseMode(c.mode), Pairs(s, true), Keys(s), box, huge, c, &depth);
   const auto [statics, plain_lost] = in_box(plain, false);
   const auto [statics2, confirmed_lost] = in_box(confirmed, false);
   const auto [movers, movers_caught] = in_box(confirmed, true);
@@ -293,7 +293,7 @@ TEST(Motion, AppearanceFailedPairsBeyondEpsAreRejected) {
   DynamicConfig c;
   c.mode = "sg";
   c.depth_check = false;
-  const RejectionResult before = JudgePairs(pairs, Keys(s), {}, {}, c);
+  const RejectionResult before = JudgePairs(ParseMode(c.mode), pairs, Keys(s), {}, {}, c);
   ASSERT_TRUE(before.fundamental);
   EXPECT_EQ(before.fundamental->pairs, pairs.flow.valid);  // not used for F
   // Half of them "moved": 10 px across their epipolar line.
@@ -311,10 +311,10 @@ TEST(Motion, AppearanceFailedPairsBeyondEpsAreRejected) {
     return rejected;
   };
   c.judge_appearance_pairs = false;
-  const RejectionResult off = JudgePairs(pairs, Keys(s), {}, {}, c);
+  const RejectionResult off = JudgePairs(ParseMode(c.mode), pairs, Keys(s), {}, {}, c);
   EXPECT_EQ(count(off, 0) + count(off, 1), 0);  // untested, kept
   c.judge_appearance_pairs = true;
-  const RejectionResult on = JudgePairs(pairs, Keys(s), {}, {}, c);
+  const RejectionResult on = JudgePairs(ParseMode(c.mode), pairs, Keys(s), {}, {}, c);
   const int moved = static_cast<int>((failed.size() + 1) / 2);
   EXPECT_EQ(count(on, 0), moved);
   EXPECT_EQ(count(on, 1), 0);

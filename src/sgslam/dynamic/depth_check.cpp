@@ -90,7 +90,7 @@ std::vector<DepthResidual> CheckDepth(const std::vector<cv::Point2f>& prev, cons
     }
     double tolerance = config.reprojection_tolerance;
     constexpr std::size_t kMinForMedian = 20;  // fewer: no level to speak of, the fixed tolerance
-    if (config.reprojection_median_factor > 0 && e.size() >= kMinForMedian) {
+    if (input.median_level && config.reprojection_median_factor > 0 && e.size() >= kMinForMedian) {
       auto mid = e.begin() + static_cast<std::ptrdiff_t>(e.size() / 2);
       std::nth_element(e.begin(), mid, e.end());
       tolerance = std::max(tolerance, config.reprojection_median_factor * *mid);

@@ -44,6 +44,10 @@ struct DepthCheckInput {
   Pinhole K;
   SE3 T_cur_prev;         // maps previous-camera points into the current camera
   UndistortFn undistort;  // empty: positions are already undistorted
+  // The reprojection tolerance may rise to reprojection_median_factor times the
+  // frame's median residual (JudgePairs: in sg only, where the boxes keep most
+  // movers out of that median).
+  bool median_level = true;
 };
 
 struct DepthResidual {

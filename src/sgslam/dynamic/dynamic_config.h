@@ -2,7 +2,7 @@
 // pair filtering, 7-point RANSAC fundamental matrix, epipolar distance against
 // eps_std scaled by the class weight w, a fallback, and an RGB-D check. The LK and
 // RANSAC defaults are the released code's; the others were measured on real fr1
-// frames with composited movers (docs/results.md). The synthetic presets of the
+// frames with composited movers (docs/results-archive.md; docs/algorithm1.md per refinement). The synthetic presets of the
 // tests are noise-free and use eps_std 1.
 #pragma once
 

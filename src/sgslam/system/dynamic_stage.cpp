@@ -78,7 +78,7 @@ std::vector<std::uint8_t> DynamicStage::JudgeFirstAgain(const dynamic::FlowFrame
   if (first_keys_.empty() || prev_depth_.empty()) return now_static;
   const dynamic::PairSet pairs = dynamic::TrackPairs(cur, prev_, first_keys_, config_, Undistort());
   const dynamic::DepthCheckInput depth = DepthInput(depth_raw, prev_depth_);
-  const dynamic::RejectionResult r = dynamic::JudgePairs(pairs, first_keys_, first_boxes_, weight, config_,
+  const dynamic::RejectionResult r = dynamic::JudgePairs(mode_, pairs, first_keys_, first_boxes_, weight, config_,
                                                          config_.depth_check ? &depth : nullptr);
   for (std::size_t i = 0; i < first_keys_.size(); ++i) {
     now_static[i] = r.keypoints[i].kept && r.keypoints[i].why == dynamic::Why::kStatic;
@@ -148,23 +148,17 @@ void DynamicStage::AwaitDetections(std::uint64_t frame_id, const dynamic::PairSe
 dynamic::RejectionResult DynamicStage::Judge(const dynamic::PairSet& pairs, const std::vector<cv::KeyPoint>& keys,
                                              const cv::Mat& depth_raw, cv::Size image, bool first,
                                              const std::vector<Detection>& detections) {
-  // No flow yet in sg's first frame: the boxes are the only evidence (a copy of the
-  // config only then: it holds a string, and this runs every frame).
-  std::optional<DynamicConfig> boxes_only;
-  if (first && mode_ == dynamic::Mode::kSg) {
-    boxes_only = config_;
-    boxes_only->mode = "semantic";
-  }
-  const DynamicConfig& dyn = boxes_only ? *boxes_only : config_;
+  // No flow yet in sg's first frame: the boxes are the only evidence (R11).
+  const dynamic::Mode mode = first && mode_ == dynamic::Mode::kSg ? dynamic::Mode::kSemantic : mode_;
   std::optional<dynamic::DepthCheckInput> depth;
-  if (dyn.depth_check && !prev_depth_.empty()) depth = DepthInput(prev_depth_, depth_raw);
+  if (config_.depth_check && !prev_depth_.empty()) depth = DepthInput(prev_depth_, depth_raw);
   std::vector<Detection> judged;
   const double max_area = config_.max_box_area * image.area();
   for (const Detection& d : detections) {
     if (d.box.area() <= max_area) judged.push_back(d);
   }
   if (first) first_boxes_ = judged;  // for JudgeFirstAgain (kept only when boxes_only_)
-  return dynamic::JudgePairs(pairs, keys, judged, Weight(), dyn, depth ? &*depth : nullptr,
+  return dynamic::JudgePairs(mode, pairs, keys, judged, Weight(), config_, depth ? &*depth : nullptr,
                              prior_.cell > 0 ? &prior_ : nullptr);
 }
 
@@ -205,6 +199,7 @@ DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, 
   }
   out.reject_ms = flow_ms + watch.ElapsedMs();
   boxes_only_ = first && mode_ == dynamic::Mode::kSg && worker_ != nullptr && config_.first_frame_rejudge;
+  out.judged_again = boxes_only_;
   if (boxes_only_) {
     first_keys_ = keys;
   } else {

@@ -1,18 +1,18 @@
 // The front of tracking in a dynamic scene (paper Fig. 1, Sec. III-A to III-D):
 // every frame goes to the object detection thread as it arrives, tracking extracts
-// ORB features meanwhile, then waits (with a timeout) for the same frame's boxes
-// and runs Algorithm 1 (backward LK flow, 7-point RANSAC F, epipolar distance times
-// the class weight) to label each keypoint static or dynamic.
+// ORB features meanwhile, runs Algorithm 1's flow (lines 1-2, no boxes needed),
+// then waits (with a timeout) for the same frame's boxes and judges each keypoint
+// static or dynamic (lines 3-14; dynamic/algorithm1.h).
 //
-// Mode none skips everything; geometric never needs the detector; semantic and sg
-// use it when one is given, else they degrade (semantic to none, sg to geometric)
-// with one warning. In sg, the boxes of moving objects that showed motion are
-// carried over the next frames where the detector misses them
-// (dynamic.carry_frames, box_carry.h). The current LK pyramid is kept as the next
-// frame's previous one, so each image's pyramid is built once. The first frame has
-// no flow: in sg its boxes alone judge it, and the next Label judges the keypoints
-// they rejected again, with the new frame as the other image
-// (dynamic.first_frame_rejudge).
+// The mode is parsed once. None skips everything; geometric never needs the
+// detector; semantic and sg use it when one is given, else they degrade (semantic
+// to none, sg to geometric) with one warning. Around Algorithm 1 the stage applies
+// the refinements R8-R11 of dynamic/refinements.h: the box area limit, the
+// detector stride (boxes followed by the flow between detector frames), the carry
+// of missed movers' boxes, and the first frame judged by its boxes alone, then
+// again with the second frame (DynamicOutcome::judged_again). The current LK
+// pyramid is kept as the next frame's previous one, so each image's pyramid is
+// built once.
 //
 // Threading: all calls from the tracking thread; the detector runs on the
 // DetectionWorker's thread (or inside Submit in sequential mode).
@@ -30,7 +30,8 @@
 #include "sgslam/detection/detector_config.h"
 #include "sgslam/dynamic/box_carry.h"
 #include "sgslam/dynamic/dynamic_config.h"
-#include "sgslam/dynamic/rejection.h"
+#include "sgslam/dynamic/algorithm1.h"
+#include "sgslam/dynamic/refinements.h"
 #include "sgslam/dynamic/undistort_table.h"
 
 namespace sgslam {
@@ -54,6 +55,9 @@ struct DynamicOutcome {
   // judges it static (Tracker::ConfirmStaticInFirstKeyFrame clears those its boxes
   // rejected); empty otherwise.
   std::vector<std::uint8_t> static_in_first;
+  // This frame was judged by its boxes alone (sg's first frame, no flow yet) and the
+  // next Label judges it again (static_in_first).
+  bool judged_again = false;
 };
 
 class DynamicStage {
@@ -64,10 +68,6 @@ class DynamicStage {
                std::unique_ptr<Detector> detector, bool sequential);
 
   dynamic::Mode mode() const { return mode_; }
-  // The frame just labelled was judged by its boxes alone (the first frame in sg
-  // mode, no flow yet) and will be judged again (dynamic.first_frame_rejudge): the
-  // next Label gives static_in_first.
-  bool boxes_only() const { return boxes_only_; }
   bool has_detector() const { return worker_ != nullptr; }
   std::string DescribeDetector() const;
 
@@ -121,7 +121,7 @@ class DynamicStage {
   bool submitted_ = false;     // the frame being labelled went to the detector
   std::vector<Detection> last_boxes_;  // the last frame's detections (fresh or followed), for the frames between
   dynamic::FlowFrame prev_;
-  bool boxes_only_ = false;  // prev_ was judged by its boxes alone (see boxes_only())
+  bool boxes_only_ = false;  // prev_ was judged by its boxes alone and is judged again (R11)
   // That frame's keypoints and the boxes it was judged by, for its second judgment.
   std::vector<cv::KeyPoint> first_keys_;
   std::vector<Detection> first_boxes_;
