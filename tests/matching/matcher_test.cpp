@@ -72,7 +72,7 @@ class RejectedMatching : public ::testing::Test {
     }
   }
 
-  Frame MakeFrame() const { return Frame(1, 1, features_, cv::Mat()); }
+  Frame MakeFrame() const { return Frame(1, 1, features_); }
 
   // Local-map search: the points carry their projections as Frame::IsInFrustum would.
   std::vector<std::shared_ptr<MapPoint>> Predicted() const {
@@ -115,7 +115,7 @@ TEST_F(RejectedMatching, LocalMapSearch) {
 
 TEST_F(RejectedMatching, MotionModelSearch) {
   // The last frame saw every point at the same place (camera still).
-  Frame last(0, 0, keyframe_->features, cv::Mat());
+  Frame last(0, 0, keyframe_->features);
   for (std::size_t i = 0; i < points_.size(); ++i) last.map_points[i] = points_[i];
   for (const bool option : {false, true}) {
     Frame cur = MakeFrame();

@@ -4,11 +4,10 @@
 
 namespace sgslam {
 
-Frame::Frame(std::uint64_t frame_id, Timestamp stamp, std::shared_ptr<const Features> feats, cv::Mat grey)
+Frame::Frame(std::uint64_t frame_id, Timestamp stamp, std::shared_ptr<const Features> feats)
     : id(frame_id),
       t(stamp),
       features(std::move(feats)),
-      gray(std::move(grey)),
       map_points(features->size()),
       outlier(features->size(), 0),
       rejected(features->dynamic.empty() ? std::vector<std::uint8_t>(features->size(), 0) : features->dynamic) {}

@@ -22,16 +22,18 @@ struct Frame {
   std::uint64_t id = 0;
   Timestamp t = 0;
   std::shared_ptr<const Features> features;
-  cv::Mat gray;  // level-0 grey image, kept for optical flow against the next frame
   std::vector<std::shared_ptr<MapPoint>> map_points;  // by keypoint; nullptr where none
   std::vector<std::uint8_t> outlier;                  // set by pose optimisation
   std::vector<std::uint8_t> rejected;                 // dynamic: never mapped; matched only as matcher.h says
   SE3 T_c_w;
   bool has_pose = false;
+  // Judged by its detection boxes alone (sg's first frame, no flow yet): the next
+  // frame judges its keypoints again (DynamicOutcome::judged_again).
+  bool judged_again = false;
   std::shared_ptr<KeyFrame> reference_kf;
 
   Frame() = default;
-  Frame(std::uint64_t frame_id, Timestamp stamp, std::shared_ptr<const Features> feats, cv::Mat grey);
+  Frame(std::uint64_t frame_id, Timestamp stamp, std::shared_ptr<const Features> feats);
 
   std::size_t size() const { return features->size(); }
   Eigen::Vector3d center() const { return T_c_w.Inverse().translation(); }

@@ -6,7 +6,6 @@
 
 #include "sgslam/common/error.h"
 #include "sgslam/common/stats.h"
-#include "sgslam/common/thread_name.h"
 #include "sgslam/mapfile/map_capture.h"
 #include "sgslam/mapfile/map_file.h"
 #include "sgslam/system/slam_system.h"
@@ -100,18 +99,8 @@ void SlamSystem::SaveCaptured(const std::filesystem::path& path, std::optional<S
     save();
     return;
   }
-  std::lock_guard lock(save_mutex_);
-  if (saver_.joinable()) saver_.join();  // the previous save's thread, already done (saving_ was false)
-  const auto job = std::make_shared<decltype(save)>(std::move(save));  // still there if no thread starts
-  try {
-    saver_ = std::thread([job] {
-      NameThisThread("sg-map-saver");
-      (*job)();
-    });
-  } catch (const std::system_error& e) {
-    spdlog::warn("no thread for the map save ({}): writing it here", e.what());
-    (*job)();
-  }
+  std::lock_guard lock(save_mutex_);  // the previous save's thread is already done (saving_ was false)
+  if (!saver_.Run(true, std::move(save))) spdlog::warn("no thread for the map save: it was written here");
 }
 
 }  // namespace sgslam

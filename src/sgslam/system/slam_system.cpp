@@ -11,7 +11,6 @@
 #include <spdlog/spdlog.h>
 
 #include "sgslam/common/stats.h"
-#include "sgslam/common/thread_name.h"
 #include "sgslam/detection/darknet_model.h"
 #include "sgslam/detection/dnn_detector.h"
 #include "sgslam/loop/vocabulary_file.h"
@@ -64,8 +63,8 @@ SlamSystem::SlamSystem(const Config& config, bool sequential, std::unique_ptr<De
       places_(MakeKeyFrameDatabase(config.loop)),
       tracker_(TrackingSection(config), config.camera, map_, places_),
       mapper_(config.mapping, config.camera.close_depth_m(), map_, places_),
-      queue_(static_cast<std::size_t>(config.mapping.queue_size)),
-      loop_queue_(kLoopQueueSize) {
+      mapping_("sg-mapping", static_cast<std::size_t>(config.mapping.queue_size)),
+      loops_("sg-loop", kLoopQueueSize) {
   // OpenCV's own worker threads (resize, blur, LK) would compete with local mapping
   // for the second core in every mode, not only when the detector sets it.
   if (config.detector.threads > 0) cv::setNumThreads(config.detector.threads);
@@ -78,18 +77,11 @@ SlamSystem::SlamSystem(const Config& config, bool sequential, std::unique_ptr<De
                                                  sequential, MakeKeyFrameDetector(config, dynamic_.has_detector()));
   }
   if (places_) loop_ = std::make_unique<LoopCloser>(map_, places_);
-  if (!sequential_) {
-    mapping_thread_ = std::thread([this] {
-      NameThisThread("sg-mapping");
-      MappingLoop();
-    });
-    if (loop_) {
-      loop_thread_ = std::thread([this] {
-        NameThisThread("sg-loop");
-        LoopClosingLoop();
-      });
-    }
-  }
+  // Local mapping's BA stops for a keyframe that waits (parallel only).
+  mapping_.Start(!sequential_, [this](SemanticInput item) {
+    MapKeyFrame(std::move(item), [this] { return mapping_.queued() > 0; });
+  });
+  if (loop_) loops_.Start(!sequential_, [this](std::shared_ptr<KeyFrame> kf) { CloseLoops(kf); });
 }
 
 // Destroyed without Finish() (an error unwinding the run): stop the threads, but
@@ -98,13 +90,7 @@ SlamSystem::~SlamSystem() { Stop(/*final_ba=*/false); }
 
 void SlamSystem::Finish() { Stop(/*final_ba=*/true); }
 
-void SlamSystem::HandOver(SemanticInput item) {
-  if (sequential_) {
-    MapKeyFrame(std::move(item), [] { return false; });
-  } else {
-    queue_.Push(std::move(item));
-  }
-}
+void SlamSystem::HandOver(SemanticInput item) { mapping_.Post(std::move(item)); }
 
 void SlamSystem::MapKeyFrame(SemanticInput item, const std::function<bool()>& interrupted) {
   MappingStats stats;
@@ -118,12 +104,7 @@ void SlamSystem::MapKeyFrame(SemanticInput item, const std::function<bool()>& in
   }
   const std::shared_ptr<KeyFrame> kf = item.keyframe;
   ToSemantic(std::move(item));
-  if (!loop_) return;
-  if (sequential_) {
-    CloseLoops(kf);
-  } else {
-    loop_queue_.Push(kf);
-  }
+  if (loop_) loops_.Post(kf);
 }
 
 void SlamSystem::CloseLoops(const std::shared_ptr<KeyFrame>& kf) {
@@ -148,13 +129,8 @@ void SlamSystem::CloseLoops(const std::shared_ptr<KeyFrame>& kf) {
 
 void SlamSystem::StartGlobalBa() {
   gba_abort_ = false;
-  if (sequential_) {
-    RunGlobalBa();
-  } else {
-    gba_thread_ = std::thread([this] {
-      NameThisThread("sg-global-ba");
-      RunGlobalBa();
-    });
+  if (!global_ba_.Run(!sequential_, [this] { RunGlobalBa(); })) {
+    spdlog::warn("no thread for the global bundle adjustment: it ran on the loop closing thread");
   }
 }
 
@@ -173,18 +149,12 @@ void SlamSystem::RunGlobalBa() {
 
 bool SlamSystem::StopGlobalBa(bool abort) {
   if (abort) gba_abort_ = true;
-  if (!gba_thread_.joinable()) return false;
-  gba_thread_.join();
-  return true;
+  return global_ba_.Join();
 }
 
 std::vector<SlamSystem::GlobalBaReport> SlamSystem::global_ba_reports() const {
   std::lock_guard lock(stats_mutex_);
   return gba_reports_;
-}
-
-void SlamSystem::LoopClosingLoop() {
-  while (auto kf = loop_queue_.Pop()) CloseLoops(*kf);
 }
 
 std::vector<LoopReport> SlamSystem::loop_reports() const {
@@ -196,12 +166,10 @@ void SlamSystem::Stop(bool final_ba) {
   if (finished_) return;
   finished_ = true;
   // The last frame's keyframe waits for a frame that will not come.
-  if (waiting_ && final_ba) HandOver(std::move(*waiting_));
-  waiting_.reset();
-  queue_.Shutdown();  // the thread drains what is queued, then exits
-  if (mapping_thread_.joinable()) mapping_thread_.join();
-  loop_queue_.Shutdown();  // after local mapping: nothing feeds it any more
-  if (loop_thread_.joinable()) loop_thread_.join();
+  if (held_ && final_ba) HandOver(std::move(*held_));
+  held_.reset();
+  mapping_.Finish();  // what is queued is mapped first
+  loops_.Finish();    // after local mapping: nothing feeds it any more
   // The final BA supersedes a running global BA; without one, it is waited for.
   // None in localisation mode: the frames stay in the map they were localised in.
   const bool run_final_ba = final_ba && config_.mapping.final_ba_iterations > 0 && !localization_only();
@@ -212,15 +180,7 @@ void SlamSystem::Stop(bool final_ba) {
   if (run_final_ba) final_ba_ = mapper_.GlobalBundleAdjustment();
   if (semantic_) semantic_->Finish();  // after local mapping: nothing feeds it any more
   std::lock_guard lock(save_mutex_);  // a save in flight ends (the semantic thread has served every request)
-  if (saver_.joinable()) saver_.join();
-}
-
-void SlamSystem::MappingLoop() {
-  while (auto item = queue_.Pop()) {
-    mapping_busy_ = true;
-    MapKeyFrame(std::move(*item), [this] { return queue_.size() > 0; });
-    mapping_busy_ = false;
-  }
+  saver_.Join();
 }
 
 void SlamSystem::ToSemantic(SemanticInput item) {
@@ -303,8 +263,8 @@ Frame SlamSystem::MakeFrame(std::uint64_t frame_id, const RgbdImages& images, Fr
   Frame frame(frame_id, images.t,
               MakeFeatures(std::move(keys), std::move(descriptors), images.depth, camera_, scale_,
                            std::move(dyn.dynamic), std::move(dyn.detections), std::move(dyn.unjudged),
-                           tracker_.PredictedAngularVelocity().value_or(Eigen::Vector3d::Zero())),
-              gray);
+                           tracker_.PredictedAngularVelocity().value_or(Eigen::Vector3d::Zero())));
+  frame.judged_again = dyn.judged_again;
   report.features = static_cast<int>(frame.size());
   report.keypoints.reserve(frame.size());
   for (const auto& k : frame.features->keys) report.keypoints.push_back(k.pt);
@@ -325,8 +285,8 @@ TrackResult SlamSystem::Track(Frame& frame, FrameReport& report) {
   // MappingConfig::busy_frames); in parallel also whenever it really is idle.
   // A keyframe queued while its BA runs interrupts it (the mapper's interrupted()).
   const bool waited = frame.id >= last_keyframe_frame_id_ + static_cast<std::uint64_t>(config_.mapping.busy_frames);
-  const bool idle = sequential_ ? waited : (queue_.size() == 0 && (!mapping_busy_ || waited));
-  const bool full = !sequential_ && queue_.size() >= static_cast<std::size_t>(config_.mapping.queue_size);
+  const bool idle = mapping_.threaded() ? mapping_.queued() == 0 && (!mapping_.busy() || waited) : waited;
+  const bool full = mapping_.queued() >= static_cast<std::size_t>(config_.mapping.queue_size);
   const TrackResult result = tracker_.Track(frame, idle, full);
   report.state = result.state;
   report.matches = result.matches;
@@ -351,19 +311,17 @@ void SlamSystem::RecordPoses(const Frame& frame, const TrackResult& result) {
 
 void SlamSystem::HandOverKeyFrames(const Frame& frame, const TrackResult& result, const RgbdImages& images,
                                    FrameReport& report) {
-  // The last frame's keyframe, corrected by Track with this frame's pose (Tracker::KeyFramesWait).
-  if (waiting_) {
-    HandOver(std::move(*waiting_));
-    waiting_.reset();
+  // The last frame's keyframe, held for this frame (TrackResult::keyframe_held).
+  if (held_) {
+    HandOver(std::move(*held_));
+    held_.reset();
   }
   if (!result.new_keyframe) return;
   report.keyframe = true;
   last_keyframe_frame_id_ = frame.id;
   SemanticInput item{result.new_keyframe, images.bgr, images.depth};
-  // A keyframe judged by its boxes alone stays with tracking for one more frame
-  // too (Tracker::ConfirmStaticInFirstKeyFrame).
-  if (tracker_.KeyFramesWait() || dynamic_.boxes_only()) {
-    waiting_ = std::move(item);
+  if (result.keyframe_held) {
+    held_ = std::move(item);
   } else {
     HandOver(std::move(item));
   }

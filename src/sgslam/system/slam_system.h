@@ -19,7 +19,7 @@
 #include <thread>
 #include <vector>
 
-#include "sgslam/common/bounded_queue.h"
+#include "sgslam/common/stage.h"
 #include "sgslam/config/config.h"
 #include "sgslam/features/orb_extractor.h"
 #include "sgslam/io/trajectory.h"
@@ -130,9 +130,10 @@ class SlamSystem {
   // suit this run (camera, ORB pyramid, vocabulary), and then the system is left as
   // it was. The first frame is then relocalised in the map.
   void LoadMap(const mapfile::MapData& data, const std::string& what);
-  // Writes the whole map to path, atomically, without stopping tracking: the map is
-  // copied (by the semantic thread after the keyframe it is on, when there is one)
-  // and written on a thread of its own. Synchronous in sequential mode and after
+  // Writes the whole map to path, atomically, without stopping tracking: the
+  // semantic thread hands over its own state after the keyframe it is on (when there
+  // is one), then the map is copied and written on a thread of its own
+  // (sg-map-saver). Synchronous in sequential mode and after
   // Finish(). A request while a save is in flight is refused (false). Failures are
   // logged; maps_saved() counts the files written.
   bool SaveMap(const std::filesystem::path& path);
@@ -155,8 +156,6 @@ class SlamSystem {
   void HandOverKeyFrames(const Frame& frame, const TrackResult& result, const RgbdImages& images,
                          FrameReport& report);
   void PublishFrame(const Frame& frame, const RgbdImages& images, const FrameReport& report);
-  void MappingLoop();
-  void LoopClosingLoop();
   // Local mapping of one keyframe, then the semantic thread and loop closing.
   void MapKeyFrame(SemanticInput item, const std::function<bool()>& interrupted);
   void CloseLoops(const std::shared_ptr<KeyFrame>& kf);
@@ -193,21 +192,16 @@ class SlamSystem {
   std::uint64_t next_frame_id_ = 0;
   std::uint64_t last_keyframe_frame_id_ = 0;  // for MappingConfig::busy_frames
   std::optional<std::size_t> map_full_at_;     // mapping.max_keyframes reached at this frame
-  std::optional<SemanticInput> waiting_;       // the last frame's keyframe, not yet mapped (Tracker::KeyFramesWait)
+  std::optional<SemanticInput> held_;          // the last frame's keyframe, not yet mapped (TrackResult::keyframe_held)
 
   std::unique_ptr<SemanticMapper> semantic_;  // fed by local mapping with refined keyframes
-  BoundedQueue<SemanticInput> queue_;         // keyframes (with their images) for local mapping
-  std::atomic<bool> mapping_busy_{false};
   mutable std::mutex stats_mutex_;
   std::vector<MappingStats> mapping_stats_;  // guarded by stats_mutex_
   std::optional<MappingStats> final_ba_;     // set by Finish() when mapping.final_ba_iterations > 0
-  std::thread mapping_thread_;
   std::unique_ptr<LoopCloser> loop_;  // with place recognition
-  BoundedQueue<std::shared_ptr<KeyFrame>> loop_queue_;
   std::mutex mapping_step_mutex_;  // local mapping holds it per keyframe; a loop correction pauses it with it
   std::vector<LoopReport> loop_reports_;  // guarded by stats_mutex_
-  std::thread loop_thread_;
-  std::thread gba_thread_;  // started and joined by the loop thread (or Stop, after it)
+  Job global_ba_{"sg-global-ba"};  // started and joined by loop closing (or Stop, after it)
   std::atomic<bool> gba_abort_{false};
   std::vector<GlobalBaReport> gba_reports_;  // guarded by stats_mutex_
   bool finished_ = false;
@@ -220,7 +214,10 @@ class SlamSystem {
   std::atomic<bool> saving_{false};
   std::atomic<std::size_t> maps_saved_{0};
   std::mutex save_mutex_;  // guards saver_; never held with another lock
-  std::thread saver_;
+  Job saver_{"sg-map-saver"};
+  // The stages, last: their threads stop (Stop, or here) before the members they use go.
+  Stage<SemanticInput> mapping_;                // keyframes (with their images) for local mapping
+  Stage<std::shared_ptr<KeyFrame>> loops_;      // mapped keyframes for loop closing
   std::atomic<bool> snapshots_{false};
   mutable std::mutex frame_snapshot_mutex_;  // guards latest_frame_
   std::shared_ptr<const FrameSnapshot> latest_frame_;

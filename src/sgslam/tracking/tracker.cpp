@@ -66,6 +66,12 @@ Tracker::Tracker(const TrackingConfig& config, const CameraConfig& camera, Map& 
       th_depth_(camera.close_depth_m()) {}
 
 TrackResult Tracker::Track(Frame& frame, bool mapping_idle, bool mapping_full) {
+  TrackResult result = TrackFrame(frame, mapping_idle, mapping_full);
+  result.keyframe_held = result.new_keyframe && (KeyFramesWait() || frame.judged_again);
+  return result;
+}
+
+TrackResult Tracker::TrackFrame(Frame& frame, bool mapping_idle, bool mapping_full) {
   TrackResult result;
   if (state_ == TrackState::kNotInitialized && !localization_only_) {
     if (Initialize(frame, result)) {

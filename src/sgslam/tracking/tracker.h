@@ -42,6 +42,18 @@ struct TrackResult {
     SE3 T_c_w;
   };
   std::optional<Refined> previous_refined;
+  // new_keyframe stays with tracking for one frame, because the next frame changes
+  // it; its points are in the map meanwhile. The caller hands it to local mapping
+  // after the next Track call (or at the end of the sequence). Two reasons:
+  // - a rolling shutter with tracking.keyframe_velocity_central: the next Track
+  //   corrects its keypoints with the angular velocity of the poses on either side
+  //   (central difference, no lag) instead of the one fitted within its own frame,
+  //   which lags the truth by about 1.5 frames, and moves the points it made (the
+  //   map's first keyframe, which had no velocity at all, gets the one of the step
+  //   to the next frame);
+  // - its frame was judged by its boxes alone (Frame::judged_again): the next frame
+  //   judges its keypoints again (ConfirmStaticInFirstKeyFrame).
+  bool keyframe_held = false;
 };
 
 class Tracker {
@@ -66,16 +78,6 @@ class Tracker {
   void SetLocalizationOnly(bool on) { localization_only_ = on; }
   bool localization_only() const { return localization_only_; }
 
-  // With a rolling shutter and tracking.keyframe_velocity_central, a new keyframe
-  // waits for the next frame before it goes to local mapping: Track then corrects
-  // its keypoints with the angular velocity of the poses on either side (central
-  // difference, no lag) instead of the one fitted within its own frame, which lags
-  // the truth by about 1.5 frames, and moves the points it made. The map's first
-  // keyframe, which had no velocity at all, gets the one of the step to the next
-  // frame. Its points are in the map meanwhile. The caller hands a new keyframe to
-  // local mapping after the next Track call (or at the end of the sequence) when
-  // this is true.
-  bool KeyFramesWait() const;
 
   // The map's first keyframe, when its keypoints were judged by their detection
   // boxes alone (the first frame has no flow): rejected keypoints with depth that
@@ -160,7 +162,10 @@ class Tracker {
   Before BeforeOf(const Frame& frame);  // takes the map's shared lock
   // Whether either central difference is on (before_last_ is kept only then).
   bool UsesCentralDifference() const;
-  // last_frame_'s keyframe, waiting for this frame (KeyFramesWait).
+  TrackResult TrackFrame(Frame& frame, bool mapping_idle, bool mapping_full);  // Track but keyframe_held
+  // With a rolling shutter and tracking.keyframe_velocity_central (TrackResult::keyframe_held).
+  bool KeyFramesWait() const;
+  // last_frame_'s keyframe, held for this frame's velocity (KeyFramesWait).
   std::shared_ptr<KeyFrame> waiting_;
   // Corrects the waiting keyframe with next, the frame after it (tracked), and
   // before, the frame before it; false when it could not (no velocity, or the
