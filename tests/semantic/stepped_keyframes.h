@@ -1,5 +1,5 @@
-// Keyframes for the export-filter tests: depth images handed to a sequential
-// SemanticMapper as keyframes whose camera steps sideways by 5 mm each (a patch
+// Keyframes for the export-filter tests: depth images added to a SemanticMap (no
+// thread) as keyframes whose camera steps sideways by 5 mm each (a patch
 // stays within one voxel), then the exported cloud in keyframe 0's frame.
 #pragma once
 
@@ -11,13 +11,13 @@
 #include "sgslam/map/features.h"
 #include "sgslam/map/keyframe.h"
 #include "sgslam/map/map.h"
-#include "sgslam/semantic/semantic_mapper.h"
+#include "sgslam/semantic/semantic_map.h"
 
 namespace sgslam::test {
 
 struct SteppedCloud {
   std::vector<Eigen::Vector3d> points;
-  std::size_t seen_moving = 0, unsupported = 0;  // the mapper's counters of dropped points
+  std::size_t seen_moving = 0, unsupported = 0;  // the map's counters of dropped points
 };
 
 // depths[k]: keyframe k's raw depth (5000 per metre); boxes[k], if given, its detections;
@@ -26,7 +26,8 @@ inline SteppedCloud ExportSteppedKeyframes(const Config& config, const std::vect
                                            const std::vector<std::vector<Detection>>& boxes = {},
                                            std::unique_ptr<Detector> keyframe_detector = nullptr) {
   Map map;
-  SemanticMapper mapper(config.semantic, std::make_shared<Camera>(config.camera), ClassTable(config.detector), map, /*sequential=*/true, std::move(keyframe_detector));
+  SemanticMap semantic(config.semantic, std::make_shared<Camera>(config.camera), ClassTable(config.detector), map,
+                       std::move(keyframe_detector));
   const auto camera = std::make_shared<Camera>(config.camera);
   const auto scale = std::make_shared<ScaleLevels>(features::MakeScaleLevels(1.2, 8));
   const cv::Mat bgr(depths.at(0).size(), CV_8UC3, cv::Scalar(90, 120, 150));
@@ -36,17 +37,16 @@ inline SteppedCloud ExportSteppedKeyframes(const Config& config, const std::vect
     const SE3 T_c_w(Eigen::Quaterniond::Identity(), Eigen::Vector3d(-0.005 * static_cast<double>(k), 0, 0));
     auto kf = std::make_shared<KeyFrame>(map.NewKeyFrameId(), static_cast<std::uint64_t>(k), 0, f, T_c_w);
     map.AddKeyFrame(kf);
-    mapper.Submit({kf, bgr, depths[k]});
+    semantic.Add({kf, bgr, depths[k]}, {});
   }
-  mapper.Finish();
   SteppedCloud out;
   std::vector<Rgb> colours;
   {
     std::shared_lock lock(map.mutex());
-    mapper.ExportCloud(out.points, colours);
+    semantic.ExportCloud(out.points, colours);
   }
-  out.seen_moving = mapper.seen_moving_points();
-  out.unsupported = mapper.unsupported_points();
+  out.seen_moving = semantic.seen_moving_points();
+  out.unsupported = semantic.unsupported_points();
   return out;
 }
 

@@ -4,10 +4,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cmath>
-#include <optional>
-#include <shared_mutex>
-#include <unordered_map>
 
 #include <spdlog/spdlog.h>
 
@@ -15,78 +11,28 @@
 #include "sgslam/common/stats.h"
 #include "sgslam/common/thread_name.h"
 #include "sgslam/map/keyframe.h"
-#include "sgslam/map/map.h"
-#include "sgslam/semantic/dynamic_mask.h"
-#include "sgslam/semantic/voxel_cell.h"
 
 namespace sgslam {
 
 namespace {
 
 // The box window (box_window.h): a carried box grows by this per frame of distance
-// (the mover's own motion), masks only pixels this close to its depth, and is not
-// carried at all when it covers more of the image.
+// (the mover's own motion), and is not carried at all when it covers more of the
+// image.
 constexpr double kBoxWindowGrowth = 4.0;   // px per frame
-constexpr double kBoxWindowBand = 0.4;     // m
 constexpr double kBoxWindowMaxArea = 0.5;  // share of the image
 // Frames of boxes kept for a semantic thread that lags behind tracking.
 constexpr std::size_t kBoxHistory = 600;
-// The see-through test's margin grows with depth^2 (Kinect noise).
-constexpr double kConsistencyToleranceQuadratic = 0.01;  // 1/m
-// Keyframe depth is kept min-pooled by this factor for the export's multi-view tests.
-constexpr int kDepthPool = 4;  // px
-// Free-space rays are cast from every this-many-th pixel (hits: every cloud point).
-constexpr int kOctoMapRayStride = 16;  // px
-// A box this close to the image edge is a cut-off view of its object.
-constexpr int kObjectBorder = 3;  // px
-
-// Min over factor x factor blocks of the valid depths (m), 0 where a block has none:
-// the nearest surface, so a see-through test never fires at a depth edge. With a
-// mask, only the pixels it marks count.
-cv::Mat MinPooledDepth(const cv::Mat& depth_raw, double depth_factor, int factor, const cv::Mat& mask = cv::Mat()) {
-  cv::Mat out = cv::Mat::zeros(depth_raw.rows / factor, depth_raw.cols / factor, CV_32F);
-  for (int y = 0; y < out.rows; ++y) {
-    for (int x = 0; x < out.cols; ++x) {
-      std::uint16_t best = 0;
-      for (int dy = 0; dy < factor; ++dy) {
-        const std::uint16_t* row = depth_raw.ptr<std::uint16_t>(y * factor + dy) + x * factor;
-        const std::uint8_t* in = mask.empty() ? nullptr : mask.ptr<std::uint8_t>(y * factor + dy) + x * factor;
-        for (int dx = 0; dx < factor; ++dx) {
-          if (in != nullptr && in[dx] == 0) continue;
-          if (row[dx] != 0 && (best == 0 || row[dx] < best)) best = row[dx];
-        }
-      }
-      out.at<float>(y, x) = static_cast<float>(best / depth_factor);
-    }
-  }
-  return out;
-}
-
-// The pixel of a pooled image (MinPooledDepth, of size `pooled`) that the
-// camera-frame point q projects to; none outside the image.
-std::optional<cv::Point> PooledPixel(cv::Size pooled, const Camera& camera, const Eigen::Vector3d& q, int factor) {
-  const Eigen::Vector2d uv = camera.Distort(camera.Project(q));
-  // Compared as doubles: a NaN or a huge coordinate must not reach the int cast.
-  const double x = uv.x() / factor, y = uv.y() / factor;
-  if (!(x >= 0 && y >= 0 && x < pooled.width && y < pooled.height)) return std::nullopt;
-  return cv::Point(static_cast<int>(x), static_cast<int>(y));
-}
 
 }  // namespace
 
 SemanticMapper::SemanticMapper(const SemanticConfig& config, std::shared_ptr<const Camera> camera, ClassTable classes,
                                const Map& map, bool sequential, std::unique_ptr<Detector> keyframe_detector)
     : config_(config),
-      map_(map),
       sequential_(sequential),
-      camera_(std::move(camera)),
-      rays_(*camera_),
-      classes_(std::move(classes)),
-      keyframe_detector_(std::move(keyframe_detector)),
-      has_keyframe_detector_(keyframe_detector_ != nullptr),
-      octomap_(config),
-      objects_(config, [cam = camera_](const Eigen::Vector3d& p_c) { return cam->Distort(cam->Project(p_c)); },
-               cv::Size(camera_->width(), camera_->height())) {
+      camera_(camera),
+      classes_(classes),
+      map_(config, std::move(camera), std::move(classes), map, std::move(keyframe_detector)) {
   if (!sequential_) {
     thread_ = std::thread([this] {
       NameThisThread("sg-semantic");
@@ -198,7 +144,7 @@ void SemanticMapper::RequestOctoMap(const std::filesystem::path& path) {
 
 void SemanticMapper::RequestState(std::function<void(SemanticState)> fn) {
   if (sequential_ || finished_) {  // this thread is the only one touching the clouds
-    fn(State());
+    fn(map_.State());
     return;
   }
   {
@@ -208,61 +154,9 @@ void SemanticMapper::RequestState(std::function<void(SemanticState)> fn) {
   wake_.notify_one();
 }
 
-SemanticState SemanticMapper::State() const {
-  SemanticState state;
-  state.clouds.reserve(clouds_.size());
-  for (std::size_t i = 0; i < clouds_.size(); ++i) {
-    const KeyFrameCloud& k = clouds_[i];
-    state.clouds.push_back({k.keyframe, k.points_c, ray_points_[i], k.depth_pooled, k.moving_pooled});
-  }
-  state.objects = objects_.objects();
-  state.next_object_id = objects_.next_id();
-  return state;
-}
-
-void SemanticMapper::Restore(SemanticState state) {
-  clouds_.clear();
-  ray_points_.clear();
-  for (SemanticState::Cloud& c : state.clouds) {
-    clouds_.push_back({c.keyframe, std::move(c.points_c), c.depth_pooled, c.moving_pooled});
-    ray_points_.push_back(std::move(c.rays_c));
-  }
-  objects_.Restore(std::move(state.objects), state.next_object_id);
-  if (sequential_) {
-    RebuildOctoMap();
-    return;
-  }
-  {  // the worker builds it before its first keyframe: loading a map does not wait for it
-    std::lock_guard lock(mutex_);
-    rebuild_pending_ = true;
-  }
-  wake_.notify_one();
-}
-
-void SemanticMapper::RebuildOctoMap() {
-  std::vector<SE3> T_w_c;
-  {
-    std::shared_lock lock(map_.mutex());
-    for (const KeyFrameCloud& c : clouds_) T_w_c.push_back(c.keyframe->PlacedT_c_w().Inverse());
-  }
-  octomap_.Clear();
-  for (std::size_t i = 0; i < clouds_.size(); ++i) octomap_.Insert(clouds_[i].points_c, ray_points_[i], T_w_c[i]);
-}
-
 std::size_t SemanticMapper::octomaps_written() const {
   std::lock_guard lock(mutex_);
   return octomaps_written_;
-}
-
-void SemanticMapper::WriteLiveOctoMap(const std::filesystem::path& path) {
-  try {
-    octomap_.Write(path);
-    spdlog::info("OctoMap so far ({} keyframes) written to {}", clouds_.size(), path.string());
-    std::lock_guard lock(mutex_);
-    ++octomaps_written_;
-  } catch (const std::exception& e) {
-    spdlog::error("OctoMap request: {}", e.what());
-  }
 }
 
 void SemanticMapper::Loop() {
@@ -283,14 +177,14 @@ void SemanticMapper::Loop() {
       if (rebuild_pending_) {
         rebuild_pending_ = false;
         lock.unlock();
-        RebuildOctoMap();
+        map_.RebuildOctoMap();
         continue;
       }
       if (state_request_) {
         const auto fn = std::move(state_request_);
         state_request_ = nullptr;
         lock.unlock();
-        fn(State());  // the clouds are this thread's
+        fn(map_.State());  // the clouds are this thread's
         continue;
       }
       if (octomap_request_) {
@@ -309,312 +203,72 @@ void SemanticMapper::Loop() {
   }
 }
 
+SemanticMapper::Published SemanticMapper::published() const {
+  std::lock_guard lock(published_mutex_);
+  return published_;
+}
+
+SemanticStats SemanticMapper::stats() const {
+  std::lock_guard lock(mutex_);
+  SemanticStats s = stats_;
+  const auto median = [&](double SemanticMap::StageMs::*field) {
+    std::vector<double> v;
+    for (const SemanticMap::StageMs& m : stage_ms_) v.push_back(m.*field);
+    return Median(std::move(v));
+  };
+  s.median_mask_ms = median(&SemanticMap::StageMs::mask);
+  s.median_cloud_ms = median(&SemanticMap::StageMs::cloud);
+  s.median_octomap_ms = median(&SemanticMap::StageMs::octomap);
+  if (map_.has_keyframe_detector()) s.median_detect_ms = median(&SemanticMap::StageMs::detect);
+  s.median_objects_ms = median(&SemanticMap::StageMs::objects);
+  return s;
+}
+
+void SemanticMapper::Restore(SemanticState state) {
+  map_.Restore(std::move(state));
+  if (sequential_) {
+    map_.RebuildOctoMap();
+    return;
+  }
+  {  // the worker builds it before its first keyframe: loading a map does not wait for it
+    std::lock_guard lock(mutex_);
+    rebuild_pending_ = true;
+  }
+  wake_.notify_one();
+}
+
+void SemanticMapper::WriteLiveOctoMap(const std::filesystem::path& path) {
+  try {
+    map_.WriteOctoMap(path);
+    spdlog::info("OctoMap so far ({} keyframes) written to {}", map_.keyframes(), path.string());
+    std::lock_guard lock(mutex_);
+    ++octomaps_written_;
+  } catch (const std::exception& e) {
+    spdlog::error("OctoMap request: {}", e.what());
+  }
+}
+
 void SemanticMapper::ProcessKeyFrame(const SemanticInput& input, const std::vector<CarriedBox>& carried) {
   const Stopwatch total;
-  SE3 T_w_c;
-  {
-    std::shared_lock lock(map_.mutex());
-    T_w_c = input.keyframe->PlacedT_c_w().Inverse();
+  const SemanticMap::StageMs ms = map_.Add(input, carried);
+  if (publishing_) {
+    SemanticMap::Snapshot latest = map_.Latest();
+    std::lock_guard lock(published_mutex_);
+    published_.clouds.emplace_back(std::move(latest.keyframe), std::move(latest.cloud));
+    published_.objects = std::move(latest.objects);
+    published_.cells = std::move(latest.cells);
   }
-  StageMs ms{};
-  Stopwatch stage;
-  const std::vector<Detection> movers = Movers(input);
-  ms.detect = stage.ElapsedMs();
-  stage.Restart();
-  // surface: where the movers themselves were, for the seen-moving filter (a whole
-  // box would mark the background behind a person as seen moving).
-  cv::Mat surface;
-  const cv::Mat mask = DynamicMask(input, movers, carried, config_.seen_moving_ratio > 0 ? &surface : nullptr);
-  ms.mask = stage.ElapsedMs();
-  stage.Restart();
-  KeyFrameCloud cloud = MakeCloud(input, mask, surface);
-  ms.cloud = stage.ElapsedMs();
-  stage.Restart();
-  std::vector<ColoredPoint> ray_points = BackProject(input.bgr, input.depth, camera_->config().depth_factor, mask,
-                                                     rays_, kOctoMapRayStride, config_);
-  octomap_.Insert(cloud.points_c, ray_points, T_w_c);
-  ms.octomap = stage.ElapsedMs();
-  clouds_.push_back(std::move(cloud));
-  ray_points_.push_back(std::move(ray_points));
-  stage.Restart();
-  ObserveObjects(input, T_w_c);
-  ms.objects = stage.ElapsedMs();
-  if (publishing_) Publish(clouds_.back());
-
   std::lock_guard lock(mutex_);
   ++stats_.keyframes;
   stats_.ms.push_back(total.ElapsedMs());
   stage_ms_.push_back(ms);
 }
 
-std::vector<Detection> SemanticMapper::Movers(const SemanticInput& input) {
-  // The keyframe's own boxes, plus the movers the larger keyframe model finds.
-  std::vector<Detection> movers = input.keyframe->features->detections;
-  if (!keyframe_detector_) return movers;
-  try {
-    for (Detection& d : keyframe_detector_->Detect(input.bgr, input.keyframe->t)) {
-      if (classes_.is_dynamic(d.class_name)) movers.push_back(std::move(d));
-    }
-  } catch (const std::exception& e) {
-    // The map goes on with tracking's boxes; the thread must not die with it.
-    spdlog::warn("semantic map: the keyframe detector failed ({}); going on without it", e.what());
-    keyframe_detector_.reset();
-  }
-  return movers;
-}
-
-cv::Mat SemanticMapper::DynamicMask(const SemanticInput& input, const std::vector<Detection>& movers,
-                                    const std::vector<CarriedBox>& carried, cv::Mat* surface) const {
-  const SemanticConfig& c = config_;
-  const Features& f = *input.keyframe->features;
-  const double depth_factor = camera_->config().depth_factor;
-  cv::Mat mask = DynamicPixelMask(input.depth, depth_factor, movers, classes_, f.keys, f.dynamic, c, f.unjudged, surface);
-  MaskCarriedBoxes(carried, input.depth, depth_factor, kBoxWindowBand, mask);
-  if (surface) MaskCarriedBoxes(carried, input.depth, depth_factor, kSeenMovingBand, *surface);
-  if (c.cloud_border > 0) {
-    // No keypoint (ORB's edge margin) and so no motion evidence reaches the border,
-    // and the detector misses the people it cuts: it stays out of the map.
-    const int b = std::min({c.cloud_border, mask.cols / 2, mask.rows / 2});
-    mask.rowRange(0, b).setTo(255), mask.rowRange(mask.rows - b, mask.rows).setTo(255);
-    mask.colRange(0, b).setTo(255), mask.colRange(mask.cols - b, mask.cols).setTo(255);
-  }
-  return mask;
-}
-
-SemanticMapper::KeyFrameCloud SemanticMapper::MakeCloud(const SemanticInput& input, const cv::Mat& mask,
-                                                        const cv::Mat& surface) const {
-  const SemanticConfig& c = config_;
-  const double depth_factor = camera_->config().depth_factor;
-  const bool seen_moving = c.seen_moving_ratio > 0;
-  KeyFrameCloud cloud;
-  cloud.keyframe = input.keyframe;
-  cloud.points_c =
-      VoxelDownsample(BackProject(input.bgr, input.depth, depth_factor, mask, rays_, c.cloud_stride, c), c.cloud_voxel);
-  if (c.consistency_filter || seen_moving) cloud.depth_pooled = MinPooledDepth(input.depth, depth_factor, kDepthPool);
-  if (seen_moving) cloud.moving_pooled = MinPooledDepth(input.depth, depth_factor, kDepthPool, surface);
-  return cloud;
-}
-
-void SemanticMapper::ObserveObjects(const SemanticInput& input, const SE3& T_w_c) {
-  const SemanticConfig& c = config_;
-  const std::vector<Detection>& detections = input.keyframe->features->detections;
-  const double depth_factor = camera_->config().depth_factor;
-  // Sec. III-E: every detection except those of dynamic objects (people, dogs).
-  const auto gives_object = [&](const Detection& d) {
-    return !classes_.is_dynamic(d.class_name) && d.score >= c.object_min_score;
-  };
-  // Every box of the frame, people's too, may hide part of another (computed only
-  // when some detection gives an object: most keyframes of a dynamic scene have none).
-  const std::vector<double> object_depths = std::any_of(detections.begin(), detections.end(), gives_object)
-                                                ? ObjectDepths(detections, input.depth, depth_factor, c)
-                                                : std::vector<double>();
-  for (std::size_t i = 0; i < detections.size(); ++i) {
-    const Detection& d = detections[i];
-    if (!gives_object(d)) continue;
-    std::vector<OtherBox> others;
-    for (std::size_t j = 0; j < detections.size(); ++j) {
-      if (j != i) others.push_back({detections[j].box, object_depths[j]});
-    }
-    auto obs = ObserveObject(d, input.depth, depth_factor, rays_, c, others);
-    if (!obs) continue;
-    obs->keyframe = input.keyframe;
-    const int b = kObjectBorder;
-    // A box cut by the image border is a partial view; it may still start an
-    // object (one never seen whole is still in the room).
-    obs->cut = d.box.x < b || d.box.y < b || d.box.x + d.box.width > input.depth.cols - b ||
-               d.box.y + d.box.height > input.depth.rows - b;
-    objects_.Add(std::move(*obs), T_w_c);
-  }
-}
-
-void SemanticMapper::FilterAndRebuild() {
-  if (filtered_) return;
-  filtered_ = true;
-  const SemanticConfig& c = config_;
-  if (!c.consistency_filter && c.min_view_support <= 1 && c.seen_moving_ratio <= 0) {
-    octomap_.Finalize();
-    return;
-  }
-  std::vector<SE3> T_c_w(clouds_.size()), T_w_c(clouds_.size());
-  for (std::size_t k = 0; k < clouds_.size(); ++k) {
-    T_c_w[k] = clouds_[k].keyframe->PlacedT_c_w();
-    T_w_c[k] = T_c_w[k].Inverse();
-  }
-  if (c.consistency_filter || c.seen_moving_ratio > 0) DropPointsOtherViewsContradict(T_c_w, T_w_c);
-  if (c.min_view_support > 1) DropPointsSeenOnce(T_w_c);
-  // The live OctoMap saw the moving points too, with the poses of the time: build
-  // it again from the points that passed and the final poses.
-  octomap_.Clear();
-  for (std::size_t i = 0; i < clouds_.size(); ++i) octomap_.Insert(clouds_[i].points_c, ray_points_[i], T_w_c[i]);
-  octomap_.Finalize();
-}
-
-void SemanticMapper::DropPointsOtherViewsContradict(const std::vector<SE3>& T_c_w, const std::vector<SE3>& T_w_c) {
-  const SemanticConfig& c = config_;
-  const bool seen_moving = c.seen_moving_ratio > 0;
-  for (std::size_t i = 0; i < clouds_.size(); ++i) {
-    std::vector<ColoredPoint> kept;
-    kept.reserve(clouds_[i].points_c.size());
-    for (const ColoredPoint& p : clouds_[i].points_c) {
-      const Eigen::Vector3d x = T_w_c[i] * p.p.cast<double>();
-      int through = 0, moving = 0, still = 1;  // keyframe i saw it, unmasked
-      for (std::size_t j = 0; j < clouds_.size(); ++j) {
-        if (j == i || clouds_[j].depth_pooled.empty()) continue;
-        const Eigen::Vector3d q = T_c_w[j] * x;
-        if (q.z() < c.depth_min || q.z() > c.depth_max) continue;
-        const std::optional<cv::Point> px = PooledPixel(clouds_[j].depth_pooled.size(), *camera_, q, kDepthPool);
-        if (!px) continue;
-        const float z = clouds_[j].depth_pooled.at<float>(*px);
-        const double tolerance = c.consistency_tolerance + kConsistencyToleranceQuadratic * q.z() * q.z();
-        if (c.consistency_filter && z > 0 && z > q.z() + tolerance) {
-          if (++through >= c.consistency_min_votes) break;  // keyframe j sees what lies behind the point
-        }
-        // A cloud made without the seen-moving filter (a loaded map) has no movers' depth.
-        if (!seen_moving || clouds_[j].moving_pooled.size() != clouds_[j].depth_pooled.size()) continue;
-        const float zm = clouds_[j].moving_pooled.at<float>(*px);
-        if (zm > 0 && std::abs(zm - q.z()) <= tolerance) {
-          ++moving;  // keyframe j masked a mover right there
-        } else if (z > 0 && std::abs(z - q.z()) <= tolerance) {
-          ++still;  // keyframe j saw the surface there, unmasked
-        }
-      }
-      if (c.consistency_filter && through >= c.consistency_min_votes) {
-        ++inconsistent_;
-      } else if (seen_moving && moving > 0 && moving >= c.seen_moving_ratio * still) {
-        ++seen_moving_;
-      } else {
-        kept.push_back(p);
-      }
-    }
-    clouds_[i].points_c.swap(kept);
-  }
-}
-
-void SemanticMapper::DropPointsSeenOnce(const std::vector<SE3>& T_w_c) {
-  // Which keyframes put a point into each OctoMap-sized voxel.
-  const double inv = 1.0 / config_.octomap_resolution;
-  std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> views;
-  std::size_t total = 0;
-  for (const KeyFrameCloud& k : clouds_) total += k.points_c.size();
-  views.reserve(total);
-  std::vector<std::vector<VoxelCell>> cells(clouds_.size());
-  for (std::size_t i = 0; i < clouds_.size(); ++i) {
-    cells[i].reserve(clouds_[i].points_c.size());
-    for (const ColoredPoint& p : clouds_[i].points_c) {
-      cells[i].push_back(VoxelCell::Of(T_w_c[i] * p.p.cast<double>(), inv));
-      auto& v = views[cells[i].back().Key()];
-      if (v.empty() || v.back() != i) v.push_back(static_cast<std::uint32_t>(i));  // i grows: no duplicates
-    }
-  }
-  // A point stays when enough keyframes put points into its voxel or the 26 around
-  // it (pose and depth noise spread one surface over neighbouring voxels).
-  const auto need = static_cast<std::size_t>(config_.min_view_support);
-  std::vector<std::uint32_t> seen;
-  for (std::size_t i = 0; i < clouds_.size(); ++i) {
-    std::vector<ColoredPoint> kept;
-    kept.reserve(clouds_[i].points_c.size());
-    for (std::size_t k = 0; k < clouds_[i].points_c.size(); ++k) {
-      const VoxelCell& cell = cells[i][k];
-      seen.clear();
-      const auto count = [&](int dx, int dy, int dz) {
-        const auto it = views.find(cell.Shifted(dx, dy, dz).Key());
-        if (it == views.end()) return;
-        for (std::uint32_t j : it->second) {
-          if (std::find(seen.begin(), seen.end(), j) == seen.end()) seen.push_back(j);
-          if (seen.size() >= need) return;
-        }
-      };
-      count(0, 0, 0);  // on a static surface the point's own voxel is usually enough
-      for (int n = 0; n < 27 && seen.size() < need; ++n) {
-        if (n != 13) count(n / 9 - 1, (n / 3) % 3 - 1, n % 3 - 1);
-      }
-      if (seen.size() >= need) {
-        kept.push_back(clouds_[i].points_c[k]);
-      } else {
-        ++unsupported_;
-      }
-    }
-    clouds_[i].points_c.swap(kept);
-  }
-}
-
 void SemanticMapper::ExportCloud(std::vector<Eigen::Vector3d>& points, std::vector<Rgb>& colours) {
-  FilterAndRebuild();
-  std::vector<ColoredPoint> world;
-  for (const KeyFrameCloud& k : clouds_) {
-    const SE3 T_w_c = k.keyframe->PlacedT_c_w().Inverse();
-    for (const ColoredPoint& p : k.points_c) world.push_back({(T_w_c * p.p.cast<double>()).cast<float>(), p.rgb});
-  }
-  const std::vector<ColoredPoint> merged = VoxelDownsample(world, config_.cloud_voxel);
-  points.clear();
-  colours.clear();
-  std::size_t freed = 0;
-  for (const ColoredPoint& p : merged) {
-    const Eigen::Vector3d x = p.p.cast<double>();
-    if (!Exported(x)) {
-      ++freed;
-      continue;
-    }
-    points.push_back(x);
-    colours.push_back(p.rgb);
-  }
+  const std::size_t freed = map_.ExportCloud(points, colours);
   std::lock_guard lock(mutex_);
   stats_.cloud_points = points.size();
   stats_.cloud_points_freed = freed;
-}
-
-std::vector<SemanticMapper::KeyFramePoints> SemanticMapper::KeyFrameClouds() const {
-  std::vector<KeyFramePoints> out;
-  out.reserve(clouds_.size());
-  for (const KeyFrameCloud& k : clouds_) out.push_back({k.keyframe, &k.points_c});
-  return out;
-}
-
-bool SemanticMapper::Exported(const Eigen::Vector3d& p_w) const {
-  // A voxel that later views saw through held something that moved away.
-  return !(config_.free_space_filter && octomap_.IsFree(p_w));
-}
-
-void SemanticMapper::Publish(const KeyFrameCloud& cloud) {
-  auto points = std::make_shared<const std::vector<ColoredPoint>>(cloud.points_c);
-  // The poses under the map's lock, the estimate (which carves every object with
-  // every view) outside it: local mapping must not wait for this low-priority thread.
-  std::unordered_map<const KeyFrame*, SE3> T_w_c;
-  {
-    std::shared_lock lock(map_.mutex());
-    for (const KeyFrameCloud& k : clouds_) T_w_c.emplace(k.keyframe.get(), k.keyframe->PlacedT_c_w().Inverse());
-  }
-  std::vector<ObjectEstimate> objects = objects_.Estimate([&](const KeyFrame& kf) { return T_w_c.at(&kf); });
-  auto cells = std::make_shared<const std::vector<Eigen::Vector4f>>(octomap_.OccupiedCells());
-  std::lock_guard lock(published_mutex_);
-  published_.clouds.emplace_back(cloud.keyframe, std::move(points));
-  published_.objects = std::move(objects);
-  published_.cells = std::move(cells);
-}
-
-SemanticMapper::Published SemanticMapper::published() const {
-  std::lock_guard lock(published_mutex_);
-  return published_;
-}
-
-std::vector<ObjectEstimate> SemanticMapper::ExportObjects(const SE3& T_out_w) const {
-  return objects_.Estimate([](const KeyFrame& kf) { return kf.PlacedT_c_w().Inverse(); }, T_out_w);
-}
-
-SemanticStats SemanticMapper::stats() const {
-  std::lock_guard lock(mutex_);
-  SemanticStats s = stats_;
-  const auto median = [&](double StageMs::*field) {
-    std::vector<double> v;
-    for (const StageMs& m : stage_ms_) v.push_back(m.*field);
-    return Median(std::move(v));
-  };
-  s.median_mask_ms = median(&StageMs::mask);
-  s.median_cloud_ms = median(&StageMs::cloud);
-  s.median_octomap_ms = median(&StageMs::octomap);
-  if (has_keyframe_detector_) s.median_detect_ms = median(&StageMs::detect);
-  s.median_objects_ms = median(&StageMs::objects);
-  return s;
 }
 
 }  // namespace sgslam
