@@ -5,8 +5,10 @@
 // takes it exclusively only to insert a keyframe; local mapping reads under a
 // shared lock and writes (new points, fusion, culling, BA results) under an
 // exclusive lock held briefly; optimisation itself runs on copies without a lock.
-// Only the place-recognition database's mutex (a leaf) is ever taken while holding
-// it; SlamSystem's mapping step mutex is taken before it (docs/development.md).
+// While it is held, tracking, mapping and loop closing take only the
+// place-recognition database's mutex (a leaf); the export after Finish() also takes
+// the semantic mapper's, which no other thread holds by then. SlamSystem's mapping
+// step mutex is taken before it.
 // Per-entity mutexes were tried in ORB-SLAM2 and led to its shutdown and reset
 // races; one readers-writer lock is simpler and TSan-clean at our scale.
 #pragma once

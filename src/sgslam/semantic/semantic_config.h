@@ -1,9 +1,9 @@
 // Configuration of the semantic mapping thread (paper Sec. III-E): the static dense
 // cloud, the OctoMap and the database of 3-D semantic objects built from keyframes.
 // Defaults: depth range, box shrink and OctoMap sensor model as in the authors'
-// release (reference-notes.md); strides and voxel sizes chosen so that a keyframe
+// release; strides and voxel sizes chosen so that a keyframe
 // costs tens of milliseconds on one core. The filters that keep movers out of the
-// map are described in docs/results.md with their measurements.
+// map are described in docs/results-archive.md with their measurements.
 #pragma once
 
 #include <string>

@@ -1,6 +1,7 @@
 // What a live viewer or a ROS node reads of a running system (docs/architecture.md,
-// "Snapshots"): immutable copies, so that a reader never
-// locks the map nor slows tracking down. SlamSystem::EnableSnapshots() turns the
+// "Snapshots"): immutable copies. LatestFrame() takes no lock of the map;
+// SnapshotMap() takes its shared lock on the reader's thread while it copies the
+// poses and points, which tracking shares. SlamSystem::EnableSnapshots() turns the
 // publishing on; LatestFrame() and SnapshotMap() may then be called from any thread.
 #pragma once
 
