@@ -6,7 +6,9 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <stdexcept>
 
+#include "support/shared_folder.h"
 #include "support/test_support.h"
 
 namespace sgslam {
@@ -22,17 +24,24 @@ void ExpectFailure(const std::vector<std::string>& args, std::initializer_list<s
   for (const auto& p : parts) EXPECT_NE(r.output.find(p), std::string::npos) << "'" << p << "' not in: " << r.output;
 }
 
-// A short static sequence mapped once, with its map saved.
+// A short static sequence mapped once, with its map saved, for all the tests of
+// this file (test::SharedFolder: seq/, room.map, out/); tmp is the test's own.
 struct Mapped {
+  fs::path shared, seq, map;
   TempDir tmp;
-  fs::path seq, map;
-  Mapped() : seq(tmp / "static"), map(tmp / "room.map") {
-    const auto s = RunSgslam({"synth", "--preset", "static", "--frames", "40", "--out", seq.string()});
-    EXPECT_EQ(s.exit_code, 0) << s.output;
-    const auto r = RunSgslam({"run", "--dataset", seq.string(), "--out", (tmp / "out").string(), "--mode", "none",
-                              "--sequential", "--save-map", map.string()});
-    EXPECT_EQ(r.exit_code, 0) << r.output;
-  }
+  Mapped()
+      : shared(test::SharedFolder("static-mapped",
+                                  [](const fs::path& dir) {
+                                    const auto s = RunSgslam({"synth", "--preset", "static", "--frames", "40", "--out",
+                                                              (dir / "static").string()});
+                                    if (s.exit_code != 0) throw std::runtime_error("sgslam synth: " + s.output);
+                                    const auto r = RunSgslam({"run", "--dataset", (dir / "static").string(), "--out",
+                                                              (dir / "out").string(), "--mode", "none", "--sequential",
+                                                              "--save-map", (dir / "room.map").string()});
+                                    if (r.exit_code != 0) throw std::runtime_error("sgslam run: " + r.output);
+                                  })),
+        seq(shared / "static"),
+        map(shared / "room.map") {}
   std::vector<std::string> Run(const std::string& out) const {
     return {"run", "--dataset", seq.string(), "--out", (tmp / out).string(), "--mode", "none", "--sequential"};
   }
@@ -41,7 +50,7 @@ struct Mapped {
 TEST(MapCommand, SaveInfoAndLoad) {
   const Mapped m;
   ASSERT_TRUE(fs::exists(m.map));
-  std::ifstream stats_file(m.tmp / "out" / "stats.json");
+  std::ifstream stats_file(m.shared / "out" / "stats.json");
   const auto stats = nlohmann::json::parse(stats_file);
   EXPECT_EQ(stats["map_file"]["saves"], 1);
   const auto info = RunSgslam({"map", "info", m.map.string()});

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <stdexcept>
 
 #include "sgslam/common/error.h"
 #include "sgslam/common/sha256.h"
@@ -16,6 +17,7 @@
 #include "sgslam/synth/writer.h"
 #include "sgslam/system/run_config.h"
 #include "sgslam/system/slam_system.h"
+#include "support/shared_folder.h"
 #include "support/test_support.h"
 
 namespace sgslam::mapfile {
@@ -23,26 +25,30 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// The objects preset (file detections: objects in the semantic map), mapped once.
+// The objects preset (file detections: objects in the semantic map), mapped once
+// for all the tests of this file (test::SharedFolder).
 struct Fixture {
-  test::TempDir dir;
   fs::path seq, map;
   RunConfig rc;
   Fixture() {
+    const fs::path dir = test::SharedFolder("objects-mapped", [](const fs::path& out) {
+      synth::SynthOptions o;
+      o.preset = "objects";
+      o.frames = 90;
+      synth::GenerateSequence(o, out / "objects");
+      const RunConfig config = ResolveRunConfig(std::nullopt, out / "objects");
+      const TumDataset dataset(out / "objects", config.config.dataset);
+      SlamSystem system(config.config, /*sequential=*/true, MakeDetector(config.config.detector, out / "objects"));
+      FrameStream stream(dataset, config.config.camera, 2);
+      while (auto frame = stream.Next()) system.Process(*frame);
+      system.Finish();
+      if (!system.SaveMap(out / "objects.map") || system.maps_saved() != 1) {
+        throw std::runtime_error("the map of the objects preset was not saved");
+      }
+    });
     seq = dir / "objects";
-    synth::SynthOptions o;
-    o.preset = "objects";
-    o.frames = 90;
-    synth::GenerateSequence(o, seq);
-    rc = ResolveRunConfig(std::nullopt, seq);
     map = dir / "objects.map";
-    const TumDataset dataset(seq, rc.config.dataset);
-    SlamSystem system(rc.config, /*sequential=*/true, MakeDetector(rc.config.detector, seq));
-    FrameStream stream(dataset, rc.config.camera, 2);
-    while (auto frame = stream.Next()) system.Process(*frame);
-    system.Finish();
-    EXPECT_TRUE(system.SaveMap(map));
-    EXPECT_EQ(system.maps_saved(), 1u);
+    rc = ResolveRunConfig(std::nullopt, seq);
   }
 };
 
@@ -86,7 +92,8 @@ TEST(MapFile, LoadThenSaveGivesTheSameContent) {
   const MapData first = ReadMapFile(f.map);
   SlamSystem system(f.rc.config, /*sequential=*/true, MakeDetector(f.rc.config.detector, f.seq));
   system.LoadMap(first, f.map.string());
-  const fs::path again = f.dir / "again.map";
+  const test::TempDir dir;
+  const fs::path again = dir / "again.map";
   ASSERT_TRUE(system.SaveMap(again));
   MapData second = ReadMapFile(again);
   // Field by field, for a failure that says where.

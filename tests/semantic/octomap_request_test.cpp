@@ -6,7 +6,10 @@
 
 #include <octomap/OcTree.h>
 
+#include <algorithm>
 #include <memory>
+#include <string>
+#include <vector>
 #include <shared_mutex>
 
 #include "sgslam/map/features.h"
@@ -75,8 +78,27 @@ TEST(OctoMapRequest, ParallelTheSemanticThreadWritesIt) {
   SubmitWall(mapper, map, config, 3, 5);
   mapper.Finish();  // a request still pending is served before the thread ends
   EXPECT_EQ(mapper.octomaps_written(), 1u);
-  // The thread may serve it before it took any keyframe: a valid file, maybe empty.
-  EXPECT_GE(OccupiedLeaves(dir.path() / "so_far.bt"), 0);
+  // The thread may serve it before it took any keyframe, or after one, two or three
+  // of them (the request came before the others, and the thread serves it before
+  // the next keyframe it takes): the map of the first k keyframes, k <= 3, as a
+  // sequential mapper writes it.
+  std::vector<long> first_k;
+  {
+    Map alone;
+    SemanticMapper sequential(config.semantic, std::make_shared<Camera>(config.camera), ClassTable(config.detector), alone,
+                              /*sequential=*/true);
+    for (int k = 0; k <= 3; ++k) {
+      if (k > 0) SubmitWall(sequential, alone, config, k - 1, k);
+      const std::filesystem::path bt = dir.path() / ("first_" + std::to_string(k) + ".bt");
+      sequential.RequestOctoMap(bt);
+      first_k.push_back(OccupiedLeaves(bt));
+    }
+    sequential.Finish();
+  }
+  const long so_far = OccupiedLeaves(dir.path() / "so_far.bt");
+  EXPECT_NE(so_far, -1) << "so_far.bt does not read";
+  EXPECT_NE(std::find(first_k.begin(), first_k.end(), so_far), first_k.end())
+      << so_far << " occupied leaves; the first 0..3 keyframes give " << ::testing::PrintToString(first_k);
   // After Finish() the caller's thread writes it, with every keyframe in.
   mapper.RequestOctoMap(dir.path() / "after.bt");
   EXPECT_EQ(mapper.octomaps_written(), 2u);

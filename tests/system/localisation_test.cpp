@@ -13,6 +13,7 @@
 #include "sgslam/synth/writer.h"
 #include "sgslam/system/run_config.h"
 #include "sgslam/system/slam_system.h"
+#include "support/shared_folder.h"
 #include "support/test_support.h"
 
 namespace sgslam {
@@ -82,35 +83,26 @@ void ExpectMapUnchanged(const Outcome& o) {
   }
 }
 
-class LocalisationSynthetic : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    dir_ = new test::TempDir();
-    synth::SynthOptions o;
-    o.preset = "static";
-    o.frames = 240;
-    o.seed = 3;
-    synth::GenerateSequence(o, dir_->path());
-  }
-  static void TearDownTestSuite() {
-    delete dir_;
-    dir_ = nullptr;
-  }
-  static test::TempDir* dir_;
-};
-test::TempDir* LocalisationSynthetic::dir_ = nullptr;
+// The `static` room, rendered once for both tests (test::SharedSequence).
+fs::path Room() {
+  synth::SynthOptions o;
+  o.preset = "static";
+  o.frames = 240;
+  o.seed = 3;
+  return test::SharedSequence(o);
+}
 
-TEST_F(LocalisationSynthetic, RoomLocalisedInTheMapOfItsFirstPart) {
-  const Outcome out = MapThenLocalise(dir_->path(), 150);
+TEST(LocalisationSynthetic, RoomLocalisedInTheMapOfItsFirstPart) {
+  const Outcome out = MapThenLocalise(Room(), 150);
   ExpectMapUnchanged(out);
   EXPECT_GE(out.localised.size(), 0.95 * static_cast<double>(out.frames));
-  EXPECT_LT(LocalisedAte(dir_->path(), out), 0.01);
+  EXPECT_LT(LocalisedAte(Room(), out), 0.01);
 }
 
 // A system in localisation mode from its first frame expects a map made elsewhere:
 // without one it starts none.
-TEST_F(LocalisationSynthetic, NoMapIsStartedInLocalisationMode) {
-  const Outcome out = MapThenLocalise(dir_->path(), 0);
+TEST(LocalisationSynthetic, NoMapIsStartedInLocalisationMode) {
+  const Outcome out = MapThenLocalise(Room(), 0);
   EXPECT_EQ(out.keyframes_made, 0u);
   EXPECT_TRUE(out.localised.empty());
   EXPECT_TRUE(out.at_end.keyframes.empty());

@@ -12,6 +12,7 @@
 #include "sgslam/synth/writer.h"
 #include "sgslam/system/run_config.h"
 #include "sgslam/system/slam_system.h"
+#include "support/shared_folder.h"
 #include "support/test_support.h"
 
 namespace sgslam {
@@ -19,13 +20,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path Walkers(const test::TempDir& dir) {
-  const fs::path seq = dir / "walkers";
+// Rendered once for both tests (test::SharedSequence).
+fs::path Walkers() {
   synth::SynthOptions o;
   o.preset = "walkers";
   o.frames = 150;
-  synth::GenerateSequence(o, seq);
-  return seq;
+  return test::SharedSequence(o);
 }
 
 RunConfig Config(const fs::path& seq) {
@@ -83,7 +83,7 @@ std::string FirstDifference(const mapfile::MapData& a, const mapfile::MapData& b
 
 TEST(MapReuse, TheNextRunStartsInTheSavedMap) {
   const test::TempDir dir;
-  const fs::path seq = Walkers(dir);
+  const fs::path seq = Walkers();
   const Outcome first = RunSequence(seq, true, {}, dir / "walkers.map");
   const Outcome again = RunSequence(seq, true, dir / "walkers.map", {});
   EXPECT_EQ(again.states.front(), TrackState::kOk) << "the first frame is relocalised in the map";
@@ -109,7 +109,7 @@ TEST(MapReuse, TheNextRunStartsInTheSavedMap) {
 // write on a thread of its own, while tracking and local mapping go on.
 TEST(MapReuse, MapsSavedWhileRunningAreWhole) {
   const test::TempDir dir;
-  const fs::path seq = Walkers(dir);
+  const fs::path seq = Walkers();
   const Outcome run = RunSequence(seq, /*sequential=*/false, {}, dir / "live.map", /*save_every=*/25);
   // A request while the last save is being written is refused: how many are taken
   // depends on the machine's speed.
