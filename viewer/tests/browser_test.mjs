@@ -40,7 +40,7 @@ try {
   const viewer = () => page.evaluate(() => window.sgslamViewer);
 
   // Pause at once: then the map is still small and the run waits for the page.
-  await page.waitForFunction(() => window.sgslamViewer && window.sgslamViewer.frames >= 3, null, { timeout: 60000 });
+  await page.waitForFunction(() => window.sgslamViewer && window.sgslamViewer.frames >= 3, null, { timeout: 120000 });  // a loaded machine renders the first frames slowly
   await page.click('#b-pause');
   await page.waitForTimeout(1500);  // a frame being processed when pause was clicked arrives meanwhile
   const held = (await viewer()).frame.index;

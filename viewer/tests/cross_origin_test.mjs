@@ -68,7 +68,7 @@ try {
   const ownErrors = collectErrors(own);
   await own.goto(url);
   const ownIndex = () => own.evaluate(() => window.sgslamViewer.frame.index);
-  await until(own, () => window.sgslamViewer && window.sgslamViewer.frames >= 3, null, 60000);
+  await until(own, () => window.sgslamViewer && window.sgslamViewer.frames >= 3, null, 120000);  // a loaded machine renders the first frames slowly
 
   const other = await probe(`http://127.0.0.1:${elsewhere.address().port}/?ws=ws://127.0.0.1:${port}/ws`);
   check(!other.opened && other.messages === 0,
