@@ -56,7 +56,7 @@ Outcome MapThenLocalise(const fs::path& dir, std::size_t map_frames) {
     ++out.frames;
     out.keyframes_made += r.keyframe ? 1 : 0;
     // The keyframe made just before the switch is mapped with this frame (it waited
-    // for it: Tracker::KeyFramesWait).
+    // for it: TrackResult::keyframe_held).
     if (frame->index == map_frames) out.after_first = StateOf(system);
   }
   system.Finish();
