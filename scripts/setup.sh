@@ -25,13 +25,14 @@ PACKAGES=(
 command -v npm >/dev/null || PACKAGES+=(npm)
 
 # ROS 1 from Debian (--ros): the node's libraries and messages, the master,
-# roslaunch and rospy (the end-to-end test), rosbag (bags), rviz and Xvfb (its screenshot).
+# roslaunch and rospy (the end-to-end test), rosbag (bags), rviz and Xvfb (its screenshot;
+# xwininfo, x11-utils, to wait for its window).
 ROS_PACKAGES=(
   libroscpp-dev libmessage-filters-dev libtf2-ros-dev libgeometry-msgs-dev libsensor-msgs-dev libnav-msgs-dev
   libvisualization-msgs-dev libstd-srvs-dev
   python3-rosmaster python3-roslaunch rosout python3-rospy python3-rosgraph python3-rosbag python3-roslib
   python3-sensor-msgs python3-nav-msgs python3-std-srvs python3-visualization-msgs python3-geometry-msgs
-  python3-opencv python3-numpy rviz xvfb x11-apps imagemagick
+  python3-opencv python3-numpy rviz xvfb x11-apps x11-utils imagemagick
 )
 
 build=1

@@ -50,13 +50,20 @@ sleep 1
 roslaunch -p "$port" sgslam sgslam.launch out:="$work/out" config:="$config" use_camera_info:=false \
   > "$work/launch.log" 2>&1 &
 pids+=($!)
+# Rviz (software GL) may take many seconds to map its window on a loaded machine:
+# the sequence is played once it is there, or the screenshot shows an empty screen.
+for _ in $(seq 120); do
+  xwininfo -root -tree 2>/dev/null | grep -qi rviz && break
+  sleep 0.5
+done
+xwininfo -root -tree 2>/dev/null | grep -qi rviz || { echo "Rviz opened no window in 60 s:"; tail -20 "$work/launch.log"; exit 1; }
 "$build/sgslam_ros_play" "$dataset" --rate "$rate" --wait-subscribers 60 > "$work/play.log" 2>&1 || {
   echo "sgslam_ros_play failed:"; cat "$work/play.log"; tail -20 "$work/launch.log"; exit 1; }
 sleep 4  # the last keyframe's maps (published at most once a second)
 import -window root "$png"
 echo "screenshot: $png"
 if [ $check = 1 ]; then
-  /usr/bin/python3 - "$png" <<'PY'
+  if ! /usr/bin/python3 - "$png" <<'PY'
 import sys
 import cv2
 import numpy as np
@@ -70,5 +77,8 @@ print(f"3-D view: {lit} pixels unlike its background; image panel: std {spread:.
 if lit < 3000 or spread < 20:
     sys.exit("FAIL: Rviz did not draw the map and the frame")
 PY
+  then
+    echo "launch log:"; tail -20 "$work/launch.log"; exit 1
+  fi
 fi
 grep -E "frames processed|ERROR" "$work/launch.log" || true
