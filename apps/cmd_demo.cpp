@@ -49,7 +49,7 @@ int RunDemo(const DemoOptions& o) {
   // SG-SLAM (Algorithm 1 with the sequence's ground-truth boxes standing in for the
   // detector) against the same system with rejection off, as in the paper's Table VI,
   // and against plain tracking, where every map point may set the pose at once
-  // (ORB-SLAM2; tracking.trust_delay 0): the two defences one by one.
+  // (ORB-SLAM2; tracking.refinements.trusted_points false): the two defences one by one.
   struct Variant {
     const char* name;
     const char* mode;
@@ -70,8 +70,8 @@ int RunDemo(const DemoOptions& o) {
     ro.mode = variants[k].mode;
     ro.print_objects = false;  // the walkers scene has no detector classes
     if (variants[k].plain) {
-      ro.tweak = [](Config& c) { c.tracking.trust_delay = 0; };
-      ro.tweak_name = "tracking.trust_delay 0";
+      ro.tweak = [](Config& c) { c.tracking.refinements.trusted_points = false; };
+      ro.tweak_name = "tracking.refinements.trusted_points false";
     }
     runs[k] = RunSequence(ro);
     std::printf("    %-5s (%s)\n          %s\n", variants[k].name, variants[k].what, FormatSummary(runs[k]).c_str());

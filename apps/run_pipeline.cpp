@@ -7,6 +7,7 @@
 #include <exception>
 #include <csignal>
 #include <nlohmann/json.hpp>
+#include <opencv2/core/utility.hpp>
 #include <set>
 #include <sstream>
 #include <utility>
@@ -34,6 +35,8 @@ namespace sgslam::app {
 namespace fs = std::filesystem;
 
 namespace {
+
+constexpr std::size_t kPrefetchFrames = 3;  // frames the reader decodes ahead of tracking
 
 std::atomic<bool> g_octomap_requested{false};
 extern "C" void OnOctoMapRequest(int) { g_octomap_requested = true; }
@@ -181,7 +184,7 @@ class FrameSource {
 FrameLoop RunFrames(const RunOptions& o, const TumDataset& dataset, const Config& config, SlamSystem& system,
                     TruthScorer& truth, const fs::path& out, const Stopwatch& wall, RunViewer* viewer) {
   FrameLoop loop;
-  FrameStream stream(dataset, config.camera, static_cast<std::size_t>(config.dataset.prefetch), o.max_frames);
+  FrameStream stream(dataset, config.camera, kPrefetchFrames, o.max_frames);
   ProgressBar progress(stream.size());
   FrameSource source(o, stream);
   try {
@@ -340,6 +343,10 @@ RunSummary RunSequence(const RunOptions& o) {
                dataset.associations_from_file() ? "associations.txt" : "associated by timestamp", rc.source);
   WriteConfigUsed(s.out, rc.config, rc.source);
 
+  // Process-wide, before any thread starts: OpenCV's own worker threads (resize,
+  // blur, LK, inference) would compete with local mapping and the detector for the
+  // two cores (detection/dnn_detector.h).
+  if (config.detector.threads > 0) cv::setNumThreads(config.detector.threads);
   std::unique_ptr<Detector> detector = LoadDetector(config, o.dataset);
   const bool has_detector = detector != nullptr;
   SlamSystem system(config, o.sequential, std::move(detector));

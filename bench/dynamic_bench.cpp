@@ -51,9 +51,9 @@ void BM_RejectSg(benchmark::State& state) {
 void BM_RejectSgReusedPyramid(benchmark::State& state) {
   const Data& d = Get();
   const DynamicConfig c;
-  const FlowFrame prev{d.prev, BuildFlowPyramid(d.prev, c)};
+  const FlowFrame prev{d.prev, BuildFlowPyramid(d.prev)};
   for (auto _ : state) {
-    const FlowFrame cur{d.cur, BuildFlowPyramid(d.cur, c)};
+    const FlowFrame cur{d.cur, BuildFlowPyramid(d.cur)};
     benchmark::DoNotOptimize(RejectDynamicFeatures(prev, cur, d.keys, d.detections, Weight, c));
   }
 }
@@ -61,7 +61,7 @@ void BM_RejectSgReusedPyramid(benchmark::State& state) {
 void BM_RejectSgDepthCheck(benchmark::State& state) {
   const Data& d = Get();
   DynamicConfig c;
-  c.depth_check = true;
+  c.refinements.depth_check = true;
   for (auto _ : state) {
     benchmark::DoNotOptimize(
         RejectDynamicFeatures(FlowFrame{d.prev, {}}, FlowFrame{d.cur, {}}, d.keys, d.detections, Weight, c, &d.depth));
@@ -70,25 +70,22 @@ void BM_RejectSgDepthCheck(benchmark::State& state) {
 
 void BM_LkFlow(benchmark::State& state) {
   const Data& d = Get();
-  const DynamicConfig c;
   std::vector<cv::Point2f> pts;
   for (const cv::KeyPoint& k : d.keys) pts.push_back(k.pt);
-  for (auto _ : state) benchmark::DoNotOptimize(TrackBackward(FlowFrame{d.prev, {}}, FlowFrame{d.cur, {}}, pts, c));
+  for (auto _ : state) benchmark::DoNotOptimize(TrackBackward(FlowFrame{d.prev, {}}, FlowFrame{d.cur, {}}, pts));
 }
 
 void BM_LkFlowPrebuiltPyramids(benchmark::State& state) {
   const Data& d = Get();
-  const DynamicConfig c;
   std::vector<cv::Point2f> pts;
   for (const cv::KeyPoint& k : d.keys) pts.push_back(k.pt);
-  const FlowFrame prev{d.prev, BuildFlowPyramid(d.prev, c)}, cur{d.cur, BuildFlowPyramid(d.cur, c)};
-  for (auto _ : state) benchmark::DoNotOptimize(TrackBackward(prev, cur, pts, c));
+  const FlowFrame prev{d.prev, BuildFlowPyramid(d.prev)}, cur{d.cur, BuildFlowPyramid(d.cur)};
+  for (auto _ : state) benchmark::DoNotOptimize(TrackBackward(prev, cur, pts));
 }
 
 void BM_BuildFlowPyramid(benchmark::State& state) {
   const Data& d = Get();
-  const DynamicConfig c;
-  for (auto _ : state) benchmark::DoNotOptimize(BuildFlowPyramid(d.cur, c));
+  for (auto _ : state) benchmark::DoNotOptimize(BuildFlowPyramid(d.cur));
 }
 
 BENCHMARK(BM_RejectSg)->Unit(benchmark::kMillisecond);

@@ -68,7 +68,7 @@ NodeOptions ReadNodeOptions(const ros::NodeHandle& p) {
 }
 
 SlamNode::SlamNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, NodeOptions options)
-    : options_(std::move(options)), nh_(nh), queue_(static_cast<std::size_t>(options_.queue_size)) {
+    : options_(std::move(options)), nh_(nh), queue_(static_cast<std::size_t>(options_.queue_size), Overflow::kDropOldest) {
   config_ = LoadNodeConfig(options_.config, options_.mode, options_.model);
   detector_ = LoadNodeDetector(config_);
   out_ = options_.out;
@@ -115,7 +115,7 @@ SlamNode::SlamNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, NodeOptions
 
 SlamNode::~SlamNode() {
   stop_ = true;
-  queue_.Close();
+  queue_.Shutdown();
   if (worker_.joinable()) worker_.join();
 }
 
@@ -267,7 +267,7 @@ void SlamNode::Work() {
         ROS_ERROR("sgslam_ros: tracking stopped: %s (the outputs of the frames before are written at the end)",
                   failure_.c_str());
       }
-    } else if (!frame && queue_.closed()) {
+    } else if (!frame && queue_.shut_down()) {
       break;
     }
     if (runner_) {
@@ -364,7 +364,7 @@ bool SlamNode::Finish(const std::string& ended) {
   save_srv_.shutdown();
   rgb_sub_.unsubscribe();
   depth_sub_.unsubscribe();
-  queue_.Close();
+  queue_.Shutdown();
   if (worker_.joinable()) worker_.join();  // takes the frames already queued, answers a save under way
   LiveStats live;
   live.topics = {options_.rgb_topic, options_.depth_topic};

@@ -26,7 +26,7 @@
 #include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_broadcaster.h>
 
-#include "frame_queue.h"
+#include "sgslam/common/bounded_queue.h"
 #include "slam_runner.h"
 
 namespace sgslam::ros_bridge {
@@ -108,7 +108,7 @@ class SlamNode {
   std::size_t index_ = 0;
   std::atomic<std::size_t> rejected_input_{0};  // frames refused: bad encoding, size, stamp (read at the end)
   std::string last_input_error_;  // the kind of the last refusal, until a frame is taken
-  DropOldestQueue<Pending> queue_;
+  BoundedQueue<Pending> queue_;  // Overflow::kDropOldest: the newest frames
 
   // Tracking side (worker_).
   std::unique_ptr<SlamRunner> runner_;

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
+#include <opencv2/core/utility.hpp>
 
 #include "run_outputs.h"
 #include "sgslam/camera/presets.h"
@@ -77,6 +78,9 @@ SlamRunner::SlamRunner(const Config& config, bool sequential, std::unique_ptr<De
   impl_->config = config;
   impl_->out = std::move(out);
   impl_->has_detector = detector != nullptr;
+  // Process-wide, as `sgslam run` does (detection/dnn_detector.h): the node has
+  // nothing else of OpenCV's running yet.
+  if (config.detector.threads > 0) cv::setNumThreads(config.detector.threads);
   impl_->system = std::make_unique<SlamSystem>(config, sequential, std::move(detector));
   impl_->system->EnableSnapshots();
 }

@@ -8,7 +8,6 @@
 
 #include <sensor_msgs/image_encodings.h>
 
-#include "frame_queue.h"
 #include "ros_messages.h"
 
 namespace sgslam::ros_bridge {
@@ -164,21 +163,6 @@ TEST(RosOutputs, PoseCloudMarkersAndImage) {
   EXPECT_EQ(image.data.size(), 64u * 48u * 3u);
   const cv::Mat drawn(48, 64, CV_8UC3, const_cast<std::uint8_t*>(image.data.data()));
   EXPECT_GT(drawn.at<cv::Vec3b>(10, 13)[1], 100);  // the kept keypoint's green circle
-}
-
-TEST(FrameQueue, DropsTheOldestWhenFullAndCountsIt) {
-  DropOldestQueue<int> q(2);
-  for (int i = 0; i < 5; ++i) q.Push(i);
-  EXPECT_EQ(q.dropped(), 3u);
-  EXPECT_EQ(q.PopFor(std::chrono::milliseconds(0)), 3);
-  EXPECT_EQ(q.PopFor(std::chrono::milliseconds(0)), 4);
-  EXPECT_FALSE(q.PopFor(std::chrono::milliseconds(1)));
-  q.Push(9);
-  q.Close();
-  q.Push(10);  // ignored once closed
-  EXPECT_EQ(q.PopFor(std::chrono::milliseconds(0)), 9);
-  EXPECT_FALSE(q.PopFor(std::chrono::milliseconds(0)));
-  EXPECT_TRUE(q.closed());
 }
 
 }  // namespace

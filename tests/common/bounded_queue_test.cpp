@@ -1,4 +1,5 @@
-// The bounded queue's two overflow policies, its blocking pop and its shutdown.
+// The bounded queue's two overflow policies, its blocking and timed pops, its wake
+// and its shutdown.
 #include "sgslam/common/bounded_queue.h"
 
 #include <gtest/gtest.h>
@@ -63,6 +64,33 @@ TEST(BoundedQueue, ShutdownAndClearTakesEverythingOut) {
   EXPECT_EQ(q.size(), 0u);
   EXPECT_FALSE(q.Pop()) << "nothing is handed out after it";
   EXPECT_FALSE(q.Push(3).accepted);
+}
+
+// The ROS node's frames: the newest kept, a timed pop for a consumer with other work.
+TEST(BoundedQueue, PopForTimesOutIsWokenAndDrainsAfterShutdown) {
+  BoundedQueue<int> q(2, Overflow::kDropOldest);
+  for (int i = 0; i < 5; ++i) q.Push(i);
+  EXPECT_EQ(q.dropped(), 3u);
+  EXPECT_EQ(q.PopFor(std::chrono::milliseconds(0)), 3);
+  EXPECT_EQ(q.PopFor(std::chrono::milliseconds(0)), 4);
+  EXPECT_FALSE(q.PopFor(std::chrono::milliseconds(1)));  // timed out
+  EXPECT_FALSE(q.shut_down());
+
+  std::thread waker([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    q.Wake();
+  });
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_FALSE(q.PopFor(std::chrono::seconds(60)));  // woken long before the minute
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(30));
+  waker.join();
+
+  q.Push(9);
+  q.Shutdown();
+  EXPECT_FALSE(q.Push(10).accepted);
+  EXPECT_EQ(q.PopFor(std::chrono::milliseconds(0)), 9);
+  EXPECT_FALSE(q.PopFor(std::chrono::milliseconds(0)));
+  EXPECT_TRUE(q.shut_down());
 }
 
 }  // namespace

@@ -55,13 +55,14 @@ TEST(ClassTable, PaperValuesAndDynamicClasses) {
   }
 }
 
-TEST(ClassTable, ThresholdAndTableComeFromTheConfig) {
+TEST(ClassTable, TheTableComesFromTheConfig) {
   DetectorConfig config;
-  config.dynamic_weight = {{"chair", 2.0}, {"robot", 4.5}};
-  config.dynamic_min_weight = 2.0;
+  config.dynamic_weight = {{"chair", 3.0}, {"robot", 4.5}, {"cart", 2.0}};
   const ClassTable table(config);
   EXPECT_TRUE(table.is_dynamic("chair"));
   EXPECT_TRUE(table.is_dynamic("robot"));
+  EXPECT_FALSE(table.is_dynamic("cart"));  // below ClassTable::kMinWeight
+  EXPECT_EQ(table.weight("cart"), 2.0);
   EXPECT_EQ(table.weight("person"), 1.0);  // a YAML table replaces the defaults
   EXPECT_FALSE(table.is_dynamic("person"));
 }
@@ -75,21 +76,19 @@ TEST(DetectorConfig, BadValuesAreRejectedWithTheKey) {
   c.input_size = 300;  // not a multiple of 32
   c.score_threshold = 1.5;
   c.person_score_threshold = 0.0;
-  c.nms_threshold = -0.1;
   c.threads = -1;
   c.timeout_ms = -5;
-  c.dynamic_min_weight = 1.0;
   c.dynamic_weight["person"] = 6.0;
   c.dynamic_weight["chair"] = 0.5;
   const auto problems = Problems(c);
   for (const char* key :
        {"detector.backend = gpu", "detector.model = ", "detector.input_size = 300", "detector.score_threshold = 1.5",
-        "detector.person_score_threshold = 0", "detector.nms_threshold = -0.1", "detector.threads = -1",
-        "detector.timeout_ms = -5", "detector.dynamic_min_weight = 1", "detector.dynamic_weight.person = 6",
+        "detector.person_score_threshold = 0", "detector.threads = -1", "detector.timeout_ms = -5",
+        "detector.dynamic_weight.person = 6",
         "detector.dynamic_weight.chair = 0.5"}) {
     EXPECT_TRUE(Mentions(problems, key)) << "no problem reported for " << key;
   }
-  EXPECT_EQ(problems.size(), 11u);
+  EXPECT_EQ(problems.size(), 9u);
 }
 
 TEST(DetectorConfig, VisitListsEveryField) {
@@ -100,8 +99,8 @@ TEST(DetectorConfig, VisitListsEveryField) {
     keys.insert(key);
   });
   EXPECT_EQ(keys, (std::set<std::string>{"backend", "model_dir", "model", "input_size", "score_threshold",
-                                         "person_score_threshold", "nms_threshold", "threads", "timeout_ms", "stride",
-                                         "detections_file", "dynamic_min_weight", "dynamic_weight"}));
+                                         "person_score_threshold", "threads", "timeout_ms", "stride",
+                                         "detections_file", "dynamic_weight"}));
 }
 
 }  // namespace

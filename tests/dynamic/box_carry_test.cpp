@@ -120,10 +120,11 @@ TEST(BoxCarry, ACarriedBoxWeighsKeypointsButLeavesTheFitsAlone) {
   DynamicConfig config;
   config.mode = "sg";
   config.eps_std = 1.0;
-  config.max_patch_difference = 12.0;
+  Algorithm1Params params;  // the synthetic frames' settings (rejection_test.cpp)
+  params.flow.max_patch_difference = 12.0;
   const auto judge = [&](const std::vector<Detection>& boxes) {
     return RejectDynamicFeatures(FlowFrame{p.prev_gray, {}}, FlowFrame{p.cur_gray, {}}, keys, boxes,
-                                 test::PersonWeight, config, nullptr);
+                                 test::PersonWeight, config, nullptr, {}, params);
   };
   Detection ghost = Box("person", 0, 0, 320, 480);  // the left half of the image
   ghost.carried = 2;

@@ -54,8 +54,7 @@ Scene Make(int depth_type) {
 TEST(DepthCheck, FlagsSidewaysAndDepthMotionAndKeepsStaticPoints) {
   for (int type : {CV_32F, CV_16U}) {
     const Scene s = Make(type);
-    const DynamicConfig c;
-    const std::vector<DepthResidual> r = CheckDepth(s.prev, s.cur, {true, true, true}, s.in, c);
+    const std::vector<DepthResidual> r = CheckDepth(s.prev, s.cur, {true, true, true}, s.in);
     ASSERT_EQ(r.size(), 3u);
     for (const DepthResidual& x : r) EXPECT_TRUE(x.valid);
     EXPECT_FALSE(r[0].moved);
@@ -77,12 +76,12 @@ TEST(DepthCheck, WindowOfPreviousDepthsForgivesADepthEdgeOnePixelOff) {
   Scene s = Make(CV_32F);
   const cv::Point p = s.prev[0];
   s.in.prev_depth.at<float>(p.y, p.x) = 1.0f;
-  DynamicConfig c;
-  c.depth_check_window = 0;
-  const std::vector<DepthResidual> centre = CheckDepth(s.prev, s.cur, {true, true, true}, s.in, c);
+  DepthCheckParams params;
+  params.window = 0;
+  const std::vector<DepthResidual> centre = CheckDepth(s.prev, s.cur, {true, true, true}, s.in, params);
   EXPECT_TRUE(centre[0].moved);
-  c.depth_check_window = 1;
-  const std::vector<DepthResidual> window = CheckDepth(s.prev, s.cur, {true, true, true}, s.in, c);
+  params.window = 1;  // kDepthCheckWindow
+  const std::vector<DepthResidual> window = CheckDepth(s.prev, s.cur, {true, true, true}, s.in, params);
   EXPECT_FALSE(window[0].moved);
   EXPECT_LT(window[0].reprojection_error, 0.01);
   EXPECT_TRUE(window[1].moved);
@@ -105,11 +104,11 @@ TEST(DepthCheck, ReprojectionToleranceFollowsTheFramesMedianResidual) {
   prev.emplace_back(320.f, 400.f);
   cur.push_back(prev.back() + cv::Point2f(25.f, 0.f));
   const std::vector<bool> use(prev.size(), true);
-  DynamicConfig c;
+  DepthCheckParams c;
   c.reprojection_median_factor = 0;
   std::vector<DepthResidual> r = CheckDepth(prev, cur, use, in, c);
   for (const DepthResidual& x : r) EXPECT_TRUE(x.valid && x.moved);
-  c.reprojection_median_factor = 3;
+  c.reprojection_median_factor = 3;  // kReprojectionMedianFactor, over the fixed 3 px (kReprojectionTolerance)
   r = CheckDepth(prev, cur, use, in, c);
   for (size_t i = 0; i + 1 < r.size(); ++i) EXPECT_FALSE(r[i].moved) << i;
   EXPECT_TRUE(r.back().moved);
@@ -125,20 +124,21 @@ TEST(DepthCheck, ReprojectionToleranceFollowsTheFramesMedianResidual) {
 TEST(DepthCheck, SkipsMissingDepthAndUnusedPairs) {
   Scene s = Make(CV_32F);
   s.in.prev_depth.at<float>(cvRound(s.prev[0].y), cvRound(s.prev[0].x)) = 0;
-  const std::vector<DepthResidual> r = CheckDepth(s.prev, s.cur, {true, false, true}, s.in, DynamicConfig{});
+  const std::vector<DepthResidual> r = CheckDepth(s.prev, s.cur, {true, false, true}, s.in);
   EXPECT_FALSE(r[0].valid);
   EXPECT_FALSE(r[1].valid);
   EXPECT_TRUE(r[2].valid && r[2].moved);
 }
 
-// The tolerances a residual was judged with are reported (dynamic.confirm_static
-// compares against them); without a reprojection test nothing limits that error.
+// The tolerances a residual was judged with are reported (DepthCheckParams::
+// confirm_static compares against them); without a reprojection test nothing limits
+// that error.
 TEST(DepthCheck, ReportsTheTolerancesItUsed) {
   const Scene s = Make(CV_32F);
-  DynamicConfig c;
+  DepthCheckParams c;
   std::vector<DepthResidual> r = CheckDepth(s.prev, s.cur, {true, true, true}, s.in, c);
-  EXPECT_NEAR(r[0].depth_tolerance, c.depth_tolerance + c.depth_tolerance_quadratic * 2.5 * 2.5, 1e-6);
-  EXPECT_DOUBLE_EQ(r[0].reprojection_tolerance, c.reprojection_tolerance);  // three points: no median level
+  EXPECT_NEAR(r[0].depth_tolerance, kDepthTolerance + kDepthToleranceQuadratic * 2.5 * 2.5, 1e-6);
+  EXPECT_DOUBLE_EQ(r[0].reprojection_tolerance, kReprojectionTolerance);  // three points: no median level
   c.reprojection_tolerance = 0;
   r = CheckDepth(s.prev, s.cur, {true, true, true}, s.in, c);
   EXPECT_TRUE(std::isinf(r[0].reprojection_tolerance));
@@ -152,7 +152,7 @@ TEST(DepthCheck, UndistortFunctionIsAppliedToBothPoints) {
     for (cv::Point2f& p : *v) p.x += 5;
   }
   s.in.undistort = [](const Eigen::Vector2d& p) { return Eigen::Vector2d(p.x() - 5, p.y()); };
-  const std::vector<DepthResidual> r = CheckDepth(s.prev, s.cur, {true, true, true}, s.in, DynamicConfig{});
+  const std::vector<DepthResidual> r = CheckDepth(s.prev, s.cur, {true, true, true}, s.in);
   EXPECT_FALSE(r[0].moved);
   EXPECT_LT(r[0].reprojection_error, 0.01);
   EXPECT_TRUE(r[1].moved);

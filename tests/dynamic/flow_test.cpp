@@ -40,7 +40,7 @@ TEST(Flow, TracksCurrentPointsBackIntoThePreviousImage) {
   const cv::Point2f shift(3.4f, -2.2f);
   const cv::Mat prev = Shifted(cur, shift);
   const std::vector<cv::Point2f> pts = Grid(40, 40);
-  const FlowPairs f = TrackBackward(FlowFrame{prev, {}}, FlowFrame{cur, {}}, pts, DynamicConfig{});
+  const FlowPairs f = TrackBackward(FlowFrame{prev, {}}, FlowFrame{cur, {}}, pts);
   EXPECT_EQ(f.valid, static_cast<int>(pts.size()));
   for (size_t i = 0; i < pts.size(); ++i) {
     EXPECT_NEAR(f.prev[i].x, pts[i].x + shift.x, 0.05);
@@ -50,11 +50,9 @@ TEST(Flow, TracksCurrentPointsBackIntoThePreviousImage) {
 
 TEST(Flow, PrebuiltPyramidsGiveTheSameResult) {
   const cv::Mat cur = Texture(2), prev = Shifted(cur, {1.5f, 0.7f});
-  const DynamicConfig c;
   const std::vector<cv::Point2f> pts = Grid(23, 5);
-  const FlowPairs a = TrackBackward(FlowFrame{prev, {}}, FlowFrame{cur, {}}, pts, c);
-  const FlowPairs b =
-      TrackBackward(FlowFrame{prev, BuildFlowPyramid(prev, c)}, FlowFrame{cur, BuildFlowPyramid(cur, c)}, pts, c);
+  const FlowPairs a = TrackBackward(FlowFrame{prev, {}}, FlowFrame{cur, {}}, pts);
+  const FlowPairs b = TrackBackward(FlowFrame{prev, BuildFlowPyramid(prev)}, FlowFrame{cur, BuildFlowPyramid(cur)}, pts);
   ASSERT_EQ(a.prev.size(), b.prev.size());
   for (size_t i = 0; i < pts.size(); ++i) {
     EXPECT_EQ(a.status[i], b.status[i]);
@@ -70,9 +68,8 @@ TEST(Flow, DropsBorderAndChangedAppearance) {
   // a region with an exposure change only (must stay).
   Texture(4)(cv::Rect(300, 200, 60, 60)).copyTo(prev(cv::Rect(300, 200, 60, 60)));
   prev(cv::Rect(100, 300, 80, 80)) += cv::Scalar(25);
-  DynamicConfig c;
   const std::vector<cv::Point2f> pts = {{3.f, 240.f}, {636.f, 100.f}, {330.f, 230.f}, {140.f, 340.f}, {500.f, 100.f}};
-  const FlowPairs f = TrackBackward(FlowFrame{prev, {}}, FlowFrame{cur, {}}, pts, c);
+  const FlowPairs f = TrackBackward(FlowFrame{prev, {}}, FlowFrame{cur, {}}, pts);
   EXPECT_EQ(f.status[0], PairStatus::kBorder);
   EXPECT_EQ(f.status[1], PairStatus::kBorder);
   EXPECT_TRUE(f.status[2] == PairStatus::kAppearance || f.status[2] == PairStatus::kFlowFailed);

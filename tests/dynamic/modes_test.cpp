@@ -76,17 +76,25 @@ TEST(Modes, FallbackRelaxesThenRestoresTheMostStaticLooking) {
   const std::vector<Detection> everywhere = {Box("person", 0, 0, 640, 480)};
   DynamicConfig c;
   c.eps_std = 1.0;  // d * 5 < 1 inside the image-wide box: most keypoints fail, the fallback has work
-  c.max_patch_difference = 12.0;
-  c.min_kept_ratio = 0.9;
-  RejectionResult r = RejectDynamicFeatures(f.pair.prev_gray, f.pair.cur_gray, f.keys, everywhere, Weight, c);
+  Algorithm1Params p;
+  p.flow.max_patch_difference = 12.0;
+  p.fallback.min_kept_ratio = 0.9;
+  RejectionResult r = RejectDynamicFeatures(f.pair.prev_gray, f.pair.cur_gray, f.keys, everywhere, Weight, c, p);
   const int min_kept = static_cast<int>(std::ceil(0.9 * static_cast<double>(f.keys.size())));
   EXPECT_GE(r.relax_steps, 1);
-  EXPECT_DOUBLE_EQ(r.eps_used, c.eps_std * std::pow(c.relax_factor, r.relax_steps));
+  EXPECT_DOUBLE_EQ(r.eps_used, c.eps_std * std::pow(p.fallback.relax_factor, r.relax_steps));
   EXPECT_GE(r.kept, min_kept);
+  // Switched off (dynamic.refinements.fallback): no relaxation, nothing restored.
+  c.refinements.fallback = false;
+  r = RejectDynamicFeatures(f.pair.prev_gray, f.pair.cur_gray, f.keys, everywhere, Weight, c, p);
+  EXPECT_EQ(r.relax_steps, 0);
+  EXPECT_EQ(r.restored, 0);
+  EXPECT_LT(r.kept, min_kept);
+  c.refinements.fallback = true;
   // No relaxation: the restored keypoints are those with the smallest d * w.
-  c.relax_steps = 0;
-  c.min_kept_ratio = 0.5;
-  r = RejectDynamicFeatures(f.pair.prev_gray, f.pair.cur_gray, f.keys, everywhere, Weight, c);
+  p.fallback.relax_steps = 0;
+  p.fallback.min_kept_ratio = 0.5;
+  r = RejectDynamicFeatures(f.pair.prev_gray, f.pair.cur_gray, f.keys, everywhere, Weight, c, p);
   EXPECT_GT(r.restored, 0);
   EXPECT_EQ(r.kept, static_cast<int>(std::ceil(0.5 * static_cast<double>(f.keys.size()))));
   double worst_kept = 0, best_rejected = 1e9;
@@ -100,7 +108,7 @@ TEST(Modes, FallbackRelaxesThenRestoresTheMostStaticLooking) {
   EXPECT_LE(worst_kept, best_rejected);
   // Semantic mode has no distance to rank by: it restores all, like the release.
   c.mode = "semantic";
-  r = RejectDynamicFeatures(f.pair.prev_gray, f.pair.cur_gray, f.keys, everywhere, Weight, c);
+  r = RejectDynamicFeatures(f.pair.prev_gray, f.pair.cur_gray, f.keys, everywhere, Weight, c, p);
   EXPECT_EQ(r.kept, static_cast<int>(f.keys.size()));
   EXPECT_EQ(r.restored, static_cast<int>(f.keys.size()));
 }
@@ -110,8 +118,8 @@ TEST(Modes, TwoRunsAreIdenticalAndPyramidsChangeNothing) {
   const DynamicConfig c;
   const auto a = RejectDynamicFeatures(f.pair.prev_gray, f.pair.cur_gray, f.keys, f.pair.detections, Weight, c);
   const auto b = RejectDynamicFeatures(f.pair.prev_gray, f.pair.cur_gray, f.keys, f.pair.detections, Weight, c);
-  const auto p = RejectDynamicFeatures(FlowFrame{f.pair.prev_gray, BuildFlowPyramid(f.pair.prev_gray, c)},
-                                       FlowFrame{f.pair.cur_gray, BuildFlowPyramid(f.pair.cur_gray, c)}, f.keys,
+  const auto p = RejectDynamicFeatures(FlowFrame{f.pair.prev_gray, BuildFlowPyramid(f.pair.prev_gray)},
+                                       FlowFrame{f.pair.cur_gray, BuildFlowPyramid(f.pair.cur_gray)}, f.keys,
                                        f.pair.detections, Weight, c);
   ASSERT_TRUE(a.fundamental && b.fundamental && p.fundamental);
   EXPECT_EQ(a.fundamental->F_cur_prev, b.fundamental->F_cur_prev);
@@ -133,11 +141,10 @@ TEST(Modes, ConfigChecksAndModeNames) {
   EXPECT_TRUE(ok.problems().empty());
   DynamicConfig bad;
   bad.mode = "semantics";
-  bad.lk_window = 20;
-  bad.min_static_pairs = 10;
+  bad.eps_std = 0;
   ConfigChecker c("dynamic");
   bad.Validate(c);
-  ASSERT_EQ(c.problems().size(), 3u);
+  ASSERT_EQ(c.problems().size(), 2u);
   EXPECT_NE(c.problems()[0].find("dynamic.mode = semantics"), std::string::npos);
   EXPECT_THROW(ParseMode("semantics"), ConfigError);
   EXPECT_EQ(ParseMode("sg"), Mode::kSg);

@@ -79,9 +79,8 @@ double RotationErrorDeg(const SE3& a, const SE3& b) {
 
 TEST(Motion, PnpRecoversTheCameraMotionDespiteMovers) {
   const Scene s = MakeScene(300, 100);
-  const DynamicConfig c;
   const std::vector<bool> all(s.moving.size(), true);
-  const auto est = EstimateMotion(s.prev_raw, s.prev_un, s.cur_un, all, s.prev_depth, 1.0, s.K, c);
+  const auto est = EstimateMotion(s.prev_raw, s.prev_un, s.cur_un, all, s.prev_depth, 1.0, s.K);
   ASSERT_TRUE(est);
   EXPECT_EQ(est->pairs, 400);
   EXPECT_GE(est->inliers, 295);  // the 300 static points (float rounding aside)
@@ -89,19 +88,19 @@ TEST(Motion, PnpRecoversTheCameraMotionDespiteMovers) {
   EXPECT_LT(RotationErrorDeg(est->T_cur_prev, s.T_cur_prev), 0.01);
   EXPECT_LT((est->T_cur_prev.translation() - s.T_cur_prev.translation()).norm(), 1e-3);  // m
   // Deterministic for equal inputs.
-  const auto again = EstimateMotion(s.prev_raw, s.prev_un, s.cur_un, all, s.prev_depth, 1.0, s.K, c);
+  const auto again = EstimateMotion(s.prev_raw, s.prev_un, s.cur_un, all, s.prev_depth, 1.0, s.K);
   ASSERT_TRUE(again);
   EXPECT_EQ(again->T_cur_prev.translation(), est->T_cur_prev.translation());
 }
 
 TEST(Motion, NoEstimateWithoutEnoughDepth) {
   const Scene s = MakeScene(40, 0);
-  DynamicConfig c;
-  c.motion_min_inliers = 30;
+  static_assert(kMotionMinInliers > 20, "the 20 pairs below must be too few");
   std::vector<bool> few(s.moving.size(), false);
   for (int i = 0; i < 20; ++i) few[i] = true;
-  EXPECT_FALSE(EstimateMotion(s.prev_raw, s.prev_un, s.cur_un, few, s.prev_depth, 1.0, s.K, c));
-  EXPECT_FALSE(EstimateMotion(s.prev_raw, s.prev_un, s.cur_un, std::vector<bool>(40, true), cv::Mat(), 1.0, s.K, c));
+  EXPECT_FALSE(EstimateMotion(s.prev_raw, s.prev_un, s.cur_un, few, s.prev_depth, 1.0, s.K));
+  // All 40 (enough pairs) but no depth.
+  EXPECT_FALSE(EstimateMotion(s.prev_raw, s.prev_un, s.cur_un, std::vector<bool>(40, true), cv::Mat(), 1.0, s.K));
 }
 
 // A PairSet as TrackPairs would make it, from known positions.
@@ -139,7 +138,7 @@ TEST(Motion, EpipolarTestNeedsUndistortedPairsOnTheFr1Lens) {
   DynamicConfig c;
   c.mode = "geometric";
   c.eps_std = 1.0;
-  c.depth_check = false;
+  c.refinements.depth_check = false;
   const auto keys = Keys(s);
   const RejectionResult un = JudgePairs(ParseMode(c.mode), Pairs(s, true), keys, {}, {}, c);
   const RejectionResult raw = JudgePairs(ParseMode(c.mode), Pairs(s, false), keys, {}, {}, c);
@@ -162,7 +161,7 @@ TEST(Motion, DepthCheckWithPnpMotionCatchesMoversOnTheFr1Lens) {
   DynamicConfig c;
   c.mode = "geometric";
   c.eps_std = 1e3;  // the epipolar test off: the RGB-D check alone
-  c.depth_check = true;
+  c.refinements.depth_check = true;
   DepthCheckInput depth{s.prev_depth, s.cur_depth, 1.0, s.K, SE3(), {}};  // the motion comes from PnP
   const RejectionResult r = JudgePairs(ParseMode(c.mode), Pairs(s, true), Keys(s), {}, {}, c, &depth);
   ASSERT_TRUE(r.motion);
@@ -180,9 +179,11 @@ TEST(Motion, DepthCheckWithPnpMotionCatchesMoversOnTheFr1Lens) {
   EXPECT_TRUE(bad.depth_ignored);
   EXPECT_EQ(Count(s, bad).static_rejected, 0);
   EXPECT_EQ(bad.rejected_depth, 0);
-  // ... unless the share limit is lifted.
-  c.depth_max_share = 1.0;
-  const RejectionResult trusted = JudgePairs(ParseMode(c.mode), Pairs(s, true), Keys(s), {}, {}, c, &scaled);
+  // ... unless the share limit (kDepthMaxShare) is lifted.
+  Algorithm1Params lifted;
+  lifted.depth.max_share = 1.0;
+  const RejectionResult trusted =
+      JudgePairs(ParseMode(c.mode), Pairs(s, true), Keys(s), {}, {}, c, &scaled, nullptr, lifted);
   EXPECT_FALSE(trusted.depth_ignored);
   EXPECT_GT(Count(s, trusted).static_rejected, 200);
 }
@@ -207,7 +208,7 @@ TEST(Motion, PriorCellsAreLeftOutOfTheFits) {
   EXPECT_FALSE(DynamicPrior{}.Dynamic({10, 10}));
   DynamicConfig c;
   c.mode = "geometric";
-  c.depth_check = false;
+  c.refinements.depth_check = false;
   const RejectionResult without = JudgePairs(ParseMode(c.mode), Pairs(s, true), keys, {}, {}, c);
   const RejectionResult with = JudgePairs(ParseMode(c.mode), Pairs(s, true), keys, {}, {}, c, nullptr, &prior);
   ASSERT_TRUE(without.fundamental && with.fundamental);
@@ -215,7 +216,7 @@ TEST(Motion, PriorCellsAreLeftOutOfTheFits) {
   EXPECT_EQ(with.fundamental->pairs, 400 - left);
 }
 
-// dynamic.prior_memory: a cell whose keypoints were rejected stays out of the fits
+// R3's memory (kPriorMemory): a cell whose keypoints were rejected stays out of the fits
 // while their flow-tracked successors are kept, for memory - 1 more frames.
 TEST(Motion, PriorRemembersRejectionsForSomeFrames) {
   const cv::Size image(640, 480);
@@ -243,15 +244,15 @@ TEST(Motion, PriorRemembersRejectionsForSomeFrames) {
   EXPECT_FALSE(MakeDynamicPrior(keys, unpaired, image, 20, &first, 3).Dynamic({30, 30}));
 }
 
-// dynamic.confirm_static: static points in a dynamic box that the RGB-D check
+// R5's confirmation (kConfirmStatic): static points in a dynamic box that the RGB-D check
 // passes well within its tolerances are judged without the box weight; movers in
 // the box are not confirmed.
 TEST(Motion, StaticPointsTheRgbdCheckConfirmsAreJudgedWithoutTheBoxWeight) {
   const Scene s = MakeScene(300, 100);
   DynamicConfig c;
   c.mode = "sg";
-  c.depth_check = true;
-  c.box_depth_band = 0;  // every keypoint in the box is weighted
+  c.refinements.depth_check = true;
+  c.refinements.box_depth_band = false;  // every keypoint in the box is weighted
   const DepthCheckInput depth{s.prev_depth, s.cur_depth, 1.0, s.K, SE3(), {}};
   const std::vector<Detection> box = {Detection{0, "person", 0.9f, cv::Rect2f(0, 0, 320, 480)}};
   const WeightFn huge = [](const std::string&) { return 1e9; };  // any d > 0 fails d * w < eps
@@ -263,10 +264,12 @@ TEST(Motion, StaticPointsTheRgbdCheckConfirmsAreJudgedWithoutTheBoxWeight) {
     }
     return std::pair{n, rejected};
   };
-  c.confirm_static = 0;
-  const RejectionResult plain = JudgePairs(ParseMode(c.mode), Pairs(s, true), Keys(s), box, huge, c, &depth);
-  c.confirm_static = 0.33;
-  const RejectionResult confirmed = JudgePairs(ParseMode(c.mode), Pairs(s, true), Keys(s), box, huge, c, &depth);
+  Algorithm1Params off;
+  off.depth.confirm_static = 0;
+  const RejectionResult plain =
+      JudgePairs(ParseMode(c.mode), Pairs(s, true), Keys(s), box, huge, c, &depth, nullptr, off);
+  const RejectionResult confirmed =
+      JudgePairs(ParseMode(c.mode), Pairs(s, true), Keys(s), box, huge, c, &depth);  // kConfirmStatic
   const auto [statics, plain_lost] = in_box(plain, false);
   const auto [statics2, confirmed_lost] = in_box(confirmed, false);
   const auto [movers, movers_caught] = in_box(confirmed, true);
@@ -279,7 +282,7 @@ TEST(Motion, StaticPointsTheRgbdCheckConfirmsAreJudgedWithoutTheBoxWeight) {
   EXPECT_EQ(movers_caught, movers);
 }
 
-// dynamic.judge_appearance_pairs: pairs that failed only the appearance filter are
+// dynamic.refinements.appearance_pairs (R4): pairs that failed only the appearance filter are
 // not used for F, but one beyond eps_std is rejected; within it, kept untested.
 TEST(Motion, AppearanceFailedPairsBeyondEpsAreRejected) {
   const Scene s = MakeScene(300, 0);
@@ -292,7 +295,7 @@ TEST(Motion, AppearanceFailedPairsBeyondEpsAreRejected) {
   }
   DynamicConfig c;
   c.mode = "sg";
-  c.depth_check = false;
+  c.refinements.depth_check = false;
   const RejectionResult before = JudgePairs(ParseMode(c.mode), pairs, Keys(s), {}, {}, c);
   ASSERT_TRUE(before.fundamental);
   EXPECT_EQ(before.fundamental->pairs, pairs.flow.valid);  // not used for F
@@ -310,10 +313,10 @@ TEST(Motion, AppearanceFailedPairsBeyondEpsAreRejected) {
     for (size_t k = parity; k < failed.size(); k += 2) rejected += !r.keypoints[failed[k]].kept;
     return rejected;
   };
-  c.judge_appearance_pairs = false;
+  c.refinements.appearance_pairs = false;
   const RejectionResult off = JudgePairs(ParseMode(c.mode), pairs, Keys(s), {}, {}, c);
   EXPECT_EQ(count(off, 0) + count(off, 1), 0);  // untested, kept
-  c.judge_appearance_pairs = true;
+  c.refinements.appearance_pairs = true;
   const RejectionResult on = JudgePairs(ParseMode(c.mode), pairs, Keys(s), {}, {}, c);
   const int moved = static_cast<int>((failed.size() + 1) / 2);
   EXPECT_EQ(count(on, 0), moved);
@@ -336,21 +339,9 @@ TEST(Motion, TrackPairsUndistortsBothPositions) {
     EXPECT_EQ(a.cur_un[i], keys[i].pt + cv::Point2f(1.f, -2.f));
     EXPECT_EQ(a.prev_un[i], a.flow.prev[i] + cv::Point2f(1.f, -2.f));
   }
-  c.undistort_pairs = false;
+  c.refinements.undistort_pairs = false;
   const PairSet b = TrackPairs(FlowFrame{p.prev_gray, {}}, FlowFrame{p.cur_gray, {}}, keys, c, shift);
   for (size_t i = 0; i < keys.size(); ++i) EXPECT_EQ(b.cur_un[i], keys[i].pt);
-}
-
-TEST(Motion, ConfigChecksTheNewKeys) {
-  DynamicConfig bad;
-  bad.prior_cell = -1;
-  bad.depth_max_share = 1.5;
-  bad.prior_memory = 0;
-  bad.confirm_static = -0.1;
-  bad.depth_check_window = 9;
-  ConfigChecker c("dynamic");
-  bad.Validate(c);
-  EXPECT_EQ(c.problems().size(), 5u);
 }
 
 }  // namespace

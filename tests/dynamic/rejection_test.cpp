@@ -30,27 +30,36 @@ const Case& GetCase(const std::string& preset, int index) {
   return cases.emplace(std::pair{preset, index}, std::move(c)).first->second;
 }
 
+// The configuration and the constants a run uses.
+struct Settings {
+  DynamicConfig config;
+  Algorithm1Params params;
+};
+
 // The synthetic frames are noise-free (static d ~0.1 px): they are judged at
-// eps_std 1 and the patch limit 12 (the real-data defaults are 3 and 20, see
-// dynamic_config.h). The RGB-D check finds its motion by PnP on the pairs.
-DynamicConfig Synthetic() {
-  DynamicConfig c;
-  c.eps_std = 1.0;
-  c.max_patch_difference = 12.0;
-  return c;
+// eps_std 1 and the patch limit 12 (the real-data defaults are 3, dynamic_config.h,
+// and kMaxPatchDifference 20, flow.h). The RGB-D check finds its motion by PnP on
+// the pairs.
+Settings Synthetic() {
+  Settings s;
+  s.config.eps_std = 1.0;
+  s.params.flow.max_patch_difference = 12.0;
+  return s;
 }
 
-Score Evaluate(const std::string& preset, const std::string& mode, DynamicConfig config = Synthetic(),
+Score Evaluate(const std::string& preset, const std::string& mode, Settings setup = Synthetic(),
                bool depth_check = false) {
+  DynamicConfig& config = setup.config;
   config.mode = mode;
-  config.depth_check = depth_check;
+  config.refinements.depth_check = depth_check;
   Score score;
   for (int k = 0; k < kPairs; ++k) {
     const Case& c = GetCase(preset, kFirst + k * kStride);
     const FramePair& p = c.pair;
     const DepthCheckInput depth{p.prev_depth, p.cur_depth, 1.0, p.K, p.T_cur_prev, {}};
     const RejectionResult r = RejectDynamicFeatures(FlowFrame{p.prev_gray, {}}, FlowFrame{p.cur_gray, {}}, c.keys,
-                                                    p.detections, test::PersonWeight, config, &depth);
+                                                    p.detections, test::PersonWeight, config, &depth, {},
+                                                    setup.params);
     score.Add(r, c.truth);
   }
   return score;
@@ -87,8 +96,8 @@ TEST(Rejection, EpipolarTestIsBlindToMotionAlongEpipolarLines) {
   sg.Print("degenerate sg");
   EXPECT_GT(geometric.dynamic, 100);
   EXPECT_LT(geometric.Recall(), 0.6);  // the paper's named weakness
-  DynamicConfig depth_only = Synthetic();
-  depth_only.reprojection_tolerance = 0;  // the walker moves sideways: its depth does not change
+  Settings depth_only = Synthetic();
+  depth_only.params.depth.reprojection_tolerance = 0;  // the walker moves sideways: its depth does not change
   const Score z_only = Evaluate("degenerate", "geometric", depth_only, true);
   z_only.Print("degenerate geometric + depth only");
   EXPECT_LT(z_only.Recall(), 0.6);
@@ -113,12 +122,12 @@ TEST(Rejection, WalkersWithDepthCheck) {
 // The defaults (eps_std 3, RGB-D check with the PnP motion) on the synthetic scenes.
 TEST(Rejection, DefaultsOnTheSyntheticPresets) {
   for (const char* preset : {"walkers", "degenerate"}) {
-    const Score s = Evaluate(preset, "sg", DynamicConfig{}, true);
+    const Score s = Evaluate(preset, "sg", Settings{}, true);
     s.Print((std::string(preset) + " sg, defaults").c_str());
     EXPECT_GE(s.Recall(), 0.80);  // measured 0.915 walkers, 0.846 degenerate (16 pairs, seed 1)
     EXPECT_LE(s.StaticLoss(), 0.10);
   }
-  const Score st = Evaluate("static", "sg", DynamicConfig{}, true);
+  const Score st = Evaluate("static", "sg", Settings{}, true);
   st.Print("static sg, defaults");
   EXPECT_LE(st.StaticLoss(), 0.05);
 }

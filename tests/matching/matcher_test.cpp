@@ -1,5 +1,5 @@
 // The projection searches of tracking (features/matcher.h) and rejected keypoints:
-// with tracking.rejected_match_distance 0 a rejected keypoint is never matched;
+// with a distance of 0 (tracking.refinements.rejected_matches off) a rejected keypoint is never matched;
 // with 50, only to a trusted map point that no kept keypoint matched, and only
 // within that descriptor distance.
 #include "sgslam/matching/matcher.h"

@@ -48,7 +48,7 @@ long OccupiedLeaves(const std::filesystem::path& bt) {
 Config WallConfig() {
   Config config;
   config.camera = test::PinholeCamera();
-  config.semantic.box_window = 0;  // keyframes are processed as they come
+  config.semantic.filters.box_window = false;  // keyframes are processed as they come
   return config;
 }
 

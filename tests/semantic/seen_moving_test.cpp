@@ -1,10 +1,12 @@
-// Two export-side guards of the static map (semantic_config.h):
-//  - semantic.seen_moving_ratio: a cloud point that other keyframes masked as a
-//    mover at its place, often enough against the times they saw it unmasked, is
-//    dropped. Five keyframes of a wall at 4 m; a person at 2 m stands in keyframes
-//    0-3 and the detector finds it in 0-2 only; a static patch at 2 m is in every
-//    keyframe and a person box (a false detection) covers it in keyframe 4 only.
-//  - semantic.cloud_border: the image border strip stays out of the cloud.
+// Two guards of the static map (semantic_config.h):
+//  - semantic.filters.seen_moving: a cloud point that other keyframes masked as a
+//    mover at its place, often enough (kSeenMovingRatio) against the times they saw
+//    it unmasked, is dropped on export. Five keyframes of a wall at 4 m; a person at
+//    2 m stands in keyframes 0-3 and the detector finds it in 0-2 only; a static
+//    patch at 2 m is in every keyframe and a person box (a false detection) covers
+//    it in keyframe 4 only.
+//  - semantic.filters.image_border: the image border strip (kImageBorder) stays out
+//    of the cloud.
 // And the semantic thread's own keyframe detector (semantic.keyframe_model) on the
 // same scene: the people it finds join the mask, its other classes do not.
 // The other filters are off, so that each test sees its own alone.
@@ -33,12 +35,13 @@ Detection PersonBox(const cv::Rect& r) {
 Config BaseConfig() {
   Config config;
   config.camera = test::PinholeCamera();
-  config.semantic.consistency_filter = false;
-  config.semantic.free_space_filter = false;
-  config.semantic.box_window = 0;
-  config.semantic.min_view_support = 1;
-  config.semantic.cloud_border = 0;
-  config.semantic.seen_moving_ratio = 0;
+  SemanticFilters& f = config.semantic.filters;
+  f.see_through = false;
+  f.free_space = false;
+  f.box_window = false;
+  f.view_support = false;
+  f.image_border = false;
+  f.seen_moving = false;
   return config;
 }
 
@@ -47,8 +50,10 @@ struct Cloud {
   std::vector<Eigen::Vector3d> points;
 };
 
-// keyframe_detector: the semantic thread's own (semantic.keyframe_model), if any.
-Cloud BuildCloud(const Config& config, std::unique_ptr<Detector> keyframe_detector = nullptr) {
+// keyframe_detector: the semantic thread's own (semantic.keyframe_model), if any;
+// options: the export filters' parameters.
+Cloud BuildCloud(const Config& config, std::unique_ptr<Detector> keyframe_detector = nullptr,
+                 const SemanticMapOptions& options = {}) {
   std::vector<cv::Mat> depths;
   std::vector<std::vector<Detection>> boxes(5);
   for (int k = 0; k < 5; ++k) {
@@ -59,7 +64,8 @@ Cloud BuildCloud(const Config& config, std::unique_ptr<Detector> keyframe_detect
     if (k == 4) boxes[k].push_back(PersonBox(kStill));   // a false detection on the static patch
     depths.push_back(depth);
   }
-  const test::SteppedCloud cloud = test::ExportSteppedKeyframes(config, depths, boxes, std::move(keyframe_detector));
+  const test::SteppedCloud cloud =
+      test::ExportSteppedKeyframes(config, depths, boxes, std::move(keyframe_detector), options);
   Cloud c;
   c.points = cloud.points;
   for (const Eigen::Vector3d& p : c.points) {
@@ -78,7 +84,8 @@ TEST(SeenMoving, AMoverTheDetectorMissedInOneKeyframeLeavesTheCloud) {
   EXPECT_EQ(off.dropped, 0u);
 
   Config config = BaseConfig();
-  config.semantic.seen_moving_ratio = 3;
+  config.semantic.filters.seen_moving = true;
+  ASSERT_EQ(SemanticMapOptions().seen_moving_ratio, 3.0);  // the pipeline's kSeenMovingRatio
   const Cloud on = BuildCloud(config);
   // Keyframes 0-2 masked a mover at the place keyframe 3 put the person: 3 >= 3 x 1.
   EXPECT_EQ(on.person, 0u);
@@ -89,8 +96,9 @@ TEST(SeenMoving, AMoverTheDetectorMissedInOneKeyframeLeavesTheCloud) {
   EXPECT_EQ(on.wall, off.wall);
 
   // A ratio the evidence does not reach keeps the person.
-  config.semantic.seen_moving_ratio = 4;
-  EXPECT_EQ(BuildCloud(config).person, off.person);
+  SemanticMapOptions four;
+  four.seen_moving_ratio = 4;
+  EXPECT_EQ(BuildCloud(config, nullptr, four).person, off.person);
 }
 
 // The semantic thread's own detector on keyframes (semantic.keyframe_model): a
@@ -135,16 +143,17 @@ TEST(KeyframeDetector, AFailingOneLeavesTrackingsBoxesAtWork) {
 TEST(CloudBorder, TheBorderStripStaysOutOfTheCloud) {
   Config config = BaseConfig();
   const Cloud off = BuildCloud(config);
-  config.semantic.cloud_border = 24;
+  config.semantic.filters.image_border = true;
   const Cloud on = BuildCloud(config);
   EXPECT_LT(on.wall, off.wall);
   EXPECT_GT(on.wall, off.wall / 2);
   const Camera camera(config.camera);
   // The first keyframe is at the origin; the others are at most 2 cm off, 2 px at 4 m.
+  const int strip = kImageBorder - 2;
   int outside = 0;
   for (const Eigen::Vector3d& p : on.points) {
     const Eigen::Vector2d uv = camera.Project(p);
-    outside += uv.x() < 22 || uv.y() < 22 || uv.x() > 640 - 22 || uv.y() > 480 - 22;
+    outside += uv.x() < strip || uv.y() < strip || uv.x() > 640 - strip || uv.y() > 480 - strip;
   }
   EXPECT_EQ(outside, 0);
 }

@@ -38,7 +38,7 @@ TEST(BackProject, PixelsLandOnTheirDepthAndMaskedOnesAreLeftOut) {
   cv::Mat mask = cv::Mat::zeros(depth.size(), CV_8UC1);
   mask(cv::Rect(200, 150, 100, 180)).setTo(255);
   SemanticConfig c;
-  c.cloud_edge_radius = 0;  // the outline's pixels: next test
+  c.filters.depth_edges = false;  // the outline's pixels: next test
   const auto all = BackProject(cv::Mat(), depth, 5000, cv::Mat(), rays, 4, c);
   const auto kept = BackProject(cv::Mat(), depth, 5000, mask, rays, 4, c);
   EXPECT_EQ(all.size(), 160u * 120u);
@@ -48,14 +48,16 @@ TEST(BackProject, PixelsLandOnTheirDepthAndMaskedOnesAreLeftOut) {
   EXPECT_EQ(BackProject(cv::Mat(), depth, 5000, cv::Mat(), rays, 4, c).size(), 25u * 45u);
 }
 
-// Pixels within cloud_edge_radius of a depth step, on either side, are left out:
-// the ring of Chebyshev radius 2 around the face's outline (2 m against 4 m).
+// With filters.depth_edges, pixels within kDepthEdgeRadius of a depth step, on
+// either side, are left out: the ring of Chebyshev radius 2 around the face's
+// outline (2 m against 4 m).
 TEST(BackProject, PixelsAtDepthStepsAreLeftOut) {
   const Camera cam(PinholeCamera());
   const PixelRays rays(cam);
   cv::Mat depth = FaceBeforeWall();
   SemanticConfig c;
-  ASSERT_EQ(c.cloud_edge_radius, 2);
+  ASSERT_TRUE(c.filters.depth_edges);
+  ASSERT_EQ(kDepthEdgeRadius, 2);
   const std::size_t face_ring = 100 * 180 - 96 * 176, wall_ring = 104 * 184 - 100 * 180;
   EXPECT_EQ(BackProject(cv::Mat(), depth, 5000, cv::Mat(), rays, 1, c).size(), 640u * 480u - face_ring - wall_ring);
   // A step below the threshold (0.05 m + 0.02 / m * z^2 = 0.37 m at 4 m) is a surface.
@@ -65,7 +67,7 @@ TEST(BackProject, PixelsAtDepthStepsAreLeftOut) {
   depth = FaceBeforeWall();
   depth(cv::Rect(200, 150, 100, 180)).setTo(0);
   EXPECT_EQ(BackProject(cv::Mat(), depth, 5000, cv::Mat(), rays, 1, c).size(), 640u * 480u - 100u * 180u);
-  c.cloud_edge_radius = 0;
+  c.filters.depth_edges = false;
   depth = FaceBeforeWall();
   EXPECT_EQ(BackProject(cv::Mat(), depth, 5000, cv::Mat(), rays, 1, c).size(), 640u * 480u);
 }
@@ -74,8 +76,8 @@ TEST(DynamicPixelMask, PersonBoxesAndRejectedKeypointsButNotChairs) {
   DetectorConfig dc;
   const ClassTable classes(dc);
   const cv::Mat depth = FaceBeforeWall();
-  SemanticConfig c;
-  c.box_margin = 0.1;
+  DynamicMaskOptions c;
+  c.box_margin = 0.1;  // 20 px above the box
   Detection person{0, "person", 0.9f, cv::Rect2f(400, 100, 100, 200)};
   Detection chair{56, "chair", 0.9f, cv::Rect2f(20, 20, 50, 50)};
   // A rejected keypoint on the box face (2 m) outside any box: only the 2 m pixels
@@ -97,8 +99,8 @@ struct SegmentsOnly {
   DetectorConfig dc;
   const ClassTable classes{dc};
   const cv::Mat depth = FaceBeforeWall();
-  SemanticConfig c = [] {
-    SemanticConfig s;
+  DynamicMaskOptions c = [] {
+    DynamicMaskOptions s;
     s.motion_radius = 0;
     return s;
   }();
@@ -108,7 +110,7 @@ TEST(DynamicPixelMask, MasksTheWholeDepthSegmentWhereMostKeypointsMoved) {
   const SegmentsOnly t;
   const ClassTable& classes = t.classes;
   const cv::Mat& depth = t.depth;
-  const SemanticConfig& c = t.c;
+  const DynamicMaskOptions& c = t.c;
   std::vector<cv::KeyPoint> keys;
   for (int k = 0; k < 4; ++k) keys.emplace_back(220.f + 20.f * static_cast<float>(k), 170.f, 7.f);  // top of the face
   keys.emplace_back(250.f, 300.f, 7.f);  // one kept on the face
@@ -134,7 +136,7 @@ TEST(DynamicPixelMask, KeypointsKeptWithoutATestDoNotOutvoteTheMovingOnes) {
   SegmentsOnly t;
   const ClassTable& classes = t.classes;
   const cv::Mat& depth = t.depth;
-  SemanticConfig& c = t.c;
+  DynamicMaskOptions& c = t.c;
   std::vector<cv::KeyPoint> keys;
   std::vector<std::uint8_t> rejected, unjudged;
   for (int k = 0; k < 3; ++k) {  // rejected on the face
@@ -150,11 +152,11 @@ TEST(DynamicPixelMask, KeypointsKeptWithoutATestDoNotOutvoteTheMovingOnes) {
   cv::Mat m = DynamicPixelMask(depth, 5000, {}, classes, keys, rejected, c, unjudged);
   EXPECT_EQ(m.at<std::uint8_t>(320, 210), 255);  // the face
   EXPECT_EQ(m.at<std::uint8_t>(240, 350), 0);    // the wall
-  c.motion_segment_skip_unjudged = false;  // counted as static: 3 of 8 rejected, not masked
+  c.skip_unjudged = false;  // counted as static: 3 of 8 rejected, not masked
   m = DynamicPixelMask(depth, 5000, {}, classes, keys, rejected, c, unjudged);
   EXPECT_EQ(cv::countNonZero(m), 0);
   // Tested keypoints still outvote: the same five, tested and kept, leave it unmasked.
-  c.motion_segment_skip_unjudged = true;
+  c.skip_unjudged = true;
   std::fill(unjudged.begin(), unjudged.end(), 0);
   m = DynamicPixelMask(depth, 5000, {}, classes, keys, rejected, c, unjudged);
   EXPECT_EQ(cv::countNonZero(m), 0);
@@ -168,7 +170,7 @@ TEST(ObserveObject, TakesTheObjectDepthsOfTheWholeBox) {
   const Detection d{56, "chair", 0.8f, cv::Rect2f(180, 130, 140, 220)};
   const auto obs = ObserveObject(d, FaceBeforeWall(), 5000, rays, c);
   ASSERT_TRUE(obs.has_value());
-  EXPECT_GE(static_cast<int>(obs->points_c.size()), c.object_min_points);
+  EXPECT_GE(static_cast<int>(obs->points_c.size()), kObjectMinPoints);
   Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e9), hi = -lo;
   for (const auto& p : obs->points_c) {
     EXPECT_NEAR(p.z(), 2.0f, 1e-4);
@@ -226,8 +228,8 @@ TEST(ObserveObject, ARecessedPartWithinTheBoxWidthBelongsToTheObject) {
   depth(cv::Rect(200, 150, 100, 108)).setTo(2 * 5000);     // leaves, rows 150-257
   depth(cv::Rect(225, 258, 50, 72)).setTo(2.15 * 5000);  // pot, rows 258-329
   const Detection d{58, "pottedplant", 0.8f, cv::Rect2f(190, 140, 120, 200)};
-  const auto lowest = [&](const SemanticConfig& c) {
-    const auto obs = ObserveObject(d, depth, 5000, rays, c);
+  const auto lowest = [&](const ObserveObjectOptions& o) {
+    const auto obs = ObserveObject(d, depth, 5000, rays, SemanticConfig(), {}, o);
     EXPECT_TRUE(obs.has_value());
     float y_max = -1e9f;
     for (const auto& p : obs ? obs->points_c : std::vector<Eigen::Vector3f>{}) {
@@ -236,11 +238,11 @@ TEST(ObserveObject, ARecessedPartWithinTheBoxWidthBelongsToTheObject) {
     }
     return y_max;
   };
-  SemanticConfig c;
-  ASSERT_EQ(c.object_depth_band_width, 1.0);
-  EXPECT_NEAR(lowest(c), (329 - 239.5) / 500.0 * 2.15, 0.03);  // the pot's bottom row
-  c.object_depth_band_width = 0;
-  EXPECT_NEAR(lowest(c), (257 - 239.5) / 500.0 * 2.0, 0.03);  // the leaves' bottom row
+  ObserveObjectOptions o;  // the pipeline's
+  ASSERT_EQ(o.depth_band_width, 1.0);
+  EXPECT_NEAR(lowest(o), (329 - 239.5) / 500.0 * 2.15, 0.03);  // the pot's bottom row
+  o.depth_band_width = 0;
+  EXPECT_NEAR(lowest(o), (257 - 239.5) / 500.0 * 2.0, 0.03);  // the leaves' bottom row
 }
 
 TEST(FitPlanes, FindsFloorAndWallButNotTheClutterBetween) {
@@ -287,23 +289,24 @@ TEST(ObserveObject, FloorInTheBoxIsBackgroundNotObject) {
       depth.at<std::uint16_t>(v, u) = static_cast<std::uint16_t>(std::lround(z * 5000));
     }
   const Detection d{56, "chair", 0.8f, cv::Rect2f(230, 180, 180, 290)};
-  const auto extent = [&](const SemanticConfig& c) {
-    const auto obs = ObserveObject(d, depth, 5000, rays, c);
+  const auto extent = [&](const ObserveObjectOptions& o) {
+    const auto obs = ObserveObject(d, depth, 5000, rays, SemanticConfig(), {}, o);
     EXPECT_TRUE(obs.has_value());
     Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e9), hi = -lo;
     for (const auto& p : obs ? obs->points_c : std::vector<Eigen::Vector3f>{}) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
     return std::pair(lo, hi);
   };
-  SemanticConfig c;
-  const auto [lo, hi] = extent(c);
+  ObserveObjectOptions o;  // the pipeline's
+  ASSERT_GT(o.background_planes, 0);
+  const auto [lo, hi] = extent(o);
   // The face spans x = -69.5 * 1.8 / 500 = -0.25 to 70.5 * 2.2 / 500 = 0.31 m.
   EXPECT_NEAR(lo.x(), -0.25, 0.03);
   EXPECT_NEAR(hi.x(), 0.31, 0.03);
   EXPECT_GT(lo.z(), 1.77);
   EXPECT_LT(hi.y(), 0.8);
   // Without the step the floor in the box border widens and deepens the object.
-  c.object_background_planes = 0;
-  const auto [lo0, hi0] = extent(c);
+  o.background_planes = 0;
+  const auto [lo0, hi0] = extent(o);
   EXPECT_LT(lo0.x(), -0.3);
   EXPECT_LT(lo0.z(), 1.76);
 }
@@ -339,11 +342,12 @@ TEST(ObjectDatabase, MergesViewsOfOneObjectAndKeepsOthersApart) {
 }
 
 // A view cut by the image border starts an object (it may never be seen whole) that
-// is marked incomplete; once a whole view comes, the cut views' samples (which drag
-// in floor or wall on the cut side) no longer shape its box.
+// is marked incomplete and exported from one view more than a whole one; once a
+// whole view comes, the cut views' samples (which drag in floor or wall on the cut
+// side) no longer shape its box.
 TEST(ObjectDatabase, CutViewsStartObjectsButAWholeViewShapesThem) {
+  ASSERT_EQ(kObjectMinObservations, 2);
   SemanticConfig c;
-  c.object_min_observations = 1;
   ObjectDatabase db(c, nullptr, {640, 480});
   const auto slab = [](float x0, float x1, bool cut) {
     ObjectObservation o;
@@ -362,15 +366,23 @@ TEST(ObjectDatabase, CutViewsStartObjectsButAWholeViewShapesThem) {
   auto est = db.Estimate([](const KeyFrame&) { return SE3(); });
   ASSERT_EQ(est.size(), 1u);
   EXPECT_FALSE(est[0].complete);
-  EXPECT_TRUE(est[0].exported);
+  EXPECT_FALSE(est[0].exported);  // 2 views, all cut: one more than kObjectMinObservations needed
   EXPECT_GT(est[0].size.x(), 2.2);  // only cut views: all of them count
+  // A third cut view: exported, still incomplete.
+  EXPECT_EQ(db.Add(slab(0.0f, 1.0f, true), SE3()), id);
+  est = db.Estimate([](const KeyFrame&) { return SE3(); });
+  ASSERT_EQ(est.size(), 1u);
+  EXPECT_FALSE(est[0].complete);
+  EXPECT_TRUE(est[0].exported);
+  EXPECT_GT(est[0].size.x(), 2.2);
   // The whole sofa, 1.8 m, in one view.
   EXPECT_EQ(db.Add(slab(0.0f, 1.8f, false), SE3()), id);
   est = db.Estimate([](const KeyFrame&) { return SE3(); });
   ASSERT_EQ(est.size(), 1u);
   EXPECT_TRUE(est[0].complete);
+  EXPECT_TRUE(est[0].exported);
   EXPECT_NEAR(est[0].size.x(), 1.8, 0.05);
-  EXPECT_EQ(est[0].observations, 3);
+  EXPECT_EQ(est[0].observations, 4);
 }
 
 TEST(OctoMapBuilder, WallIsOccupiedTheSpaceBeforeItFreeAndTheFileReloads) {
@@ -398,14 +410,14 @@ TEST(OctoMapBuilder, WallIsOccupiedTheSpaceBeforeItFreeAndTheFileReloads) {
 
 TEST(SemanticConfig, BadValuesNameTheirKey) {
   Config c;
-  c.semantic.octomap_hit = 0.3;
+  c.semantic.octomap_resolution = 2.0;
   c.semantic.depth_max = 0.1;
   c.semantic.keyframe_model = "models/yolo-fastest-1.1-xl";  // a path, not a stem
   try {
     c.Validate("test.yaml");
     FAIL() << "no error";
   } catch (const ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("semantic.octomap_hit = 0.3"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("semantic.octomap_resolution = 2"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("semantic.depth_max"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("semantic.keyframe_model"), std::string::npos) << e.what();
   }

@@ -21,13 +21,15 @@ struct SteppedCloud {
 };
 
 // depths[k]: keyframe k's raw depth (5000 per metre); boxes[k], if given, its detections;
-// keyframe_detector, if given, the semantic thread's own (semantic.keyframe_model).
+// keyframe_detector, if given, the semantic thread's own (semantic.keyframe_model);
+// options: the export filters' parameters (default: the pipeline's constants).
 inline SteppedCloud ExportSteppedKeyframes(const Config& config, const std::vector<cv::Mat>& depths,
                                            const std::vector<std::vector<Detection>>& boxes = {},
-                                           std::unique_ptr<Detector> keyframe_detector = nullptr) {
+                                           std::unique_ptr<Detector> keyframe_detector = nullptr,
+                                           const SemanticMapOptions& options = {}) {
   Map map;
   SemanticMap semantic(config.semantic, std::make_shared<Camera>(config.camera), ClassTable(config.detector), map,
-                       std::move(keyframe_detector));
+                       std::move(keyframe_detector), options);
   const auto camera = std::make_shared<Camera>(config.camera);
   const auto scale = std::make_shared<ScaleLevels>(features::MakeScaleLevels(1.2, 8));
   const cv::Mat bgr(depths.at(0).size(), CV_8UC3, cv::Scalar(90, 120, 150));

@@ -1,8 +1,9 @@
-// semantic.min_view_support: on export, a cloud point stays only when enough
-// keyframes put points near it. Five keyframes of a wall at 4 m from slightly
-// different places; a patch at 2 m is in one keyframe only (something that passed
-// through), another in three (something that stayed). The see-through filter and
-// the border strip are off, so that this filter alone decides.
+// semantic.filters.view_support: on export, a cloud point stays only when enough
+// keyframes (kMinViewSupport, 3) put points near it. Five keyframes of a wall at 4 m
+// from slightly different places; a patch at 2 m is in one keyframe only (something
+// that passed through), another in three (something that stayed). The see-through
+// and free-space filters, the box window and the border strip are off (nothing is
+// masked, so seen-moving drops nothing), so that this filter alone decides.
 #include <gtest/gtest.h>
 
 #include "semantic/semantic_scenes.h"
@@ -15,14 +16,15 @@ struct Cloud {
   std::size_t wall = 0, passing = 0, staying = 0, unsupported = 0;
 };
 
-Cloud BuildCloud(int min_view_support) {
+Cloud BuildCloud(bool view_support) {
   Config config;
   config.camera = test::PinholeCamera();
-  config.semantic.consistency_filter = false;
-  config.semantic.free_space_filter = false;
-  config.semantic.box_window = 0;
-  config.semantic.min_view_support = min_view_support;
-  config.semantic.cloud_border = 0;  // the whole wall, to the image edge
+  SemanticFilters& f = config.semantic.filters;
+  f.see_through = false;
+  f.free_space = false;
+  f.box_window = false;
+  f.view_support = view_support;
+  f.image_border = false;  // the whole wall, to the image edge
   std::vector<cv::Mat> depths;
   for (int k = 0; k < 5; ++k) {
     cv::Mat depth(480, 640, CV_16UC1, cv::Scalar(4 * 5000));
@@ -42,12 +44,13 @@ Cloud BuildCloud(int min_view_support) {
 }
 
 TEST(ViewSupport, PointsOnlyOneKeyframeSawLeaveTheCloud) {
-  const Cloud off = BuildCloud(1);
+  const Cloud off = BuildCloud(false);
   EXPECT_GT(off.passing, 50u);
   EXPECT_GT(off.staying, 50u);
   EXPECT_EQ(off.unsupported, 0u);
 
-  const Cloud on = BuildCloud(3);
+  ASSERT_EQ(kMinViewSupport, 3);  // the staying patch is in exactly 3 keyframes
+  const Cloud on = BuildCloud(true);
   EXPECT_EQ(on.passing, 0u);
   EXPECT_EQ(on.staying, off.staying);
   EXPECT_GT(on.unsupported, 0u);

@@ -1,6 +1,6 @@
 // DynamicStage with a detector that misses the walkers in every other frame (as
 // Yolo-Fastest does on dyn_dev): the boxes of the frame before are carried into the
-// missed frames (dynamic.carry_frames, box_carry.h), so the walkers' keypoints there
+// missed frames (R10, dynamic.refinements.box_carry, box_carry.h), so the walkers' keypoints there
 // are judged with their class weight instead of by the epipolar test alone.
 #include <gtest/gtest.h>
 
@@ -62,12 +62,12 @@ std::pair<std::vector<cv::KeyPoint>, DynamicOutcome> SubmitAndLabel(DynamicStage
   return {std::move(keys), std::move(out)};
 }
 
-Tally RunWalkers(int carry_frames) {
+Tally RunWalkers(bool carry) {
   constexpr int kFirst = 30, kFrames = 24;
   const synth::SynthSequence& seq = dynamic::test::Sequence("walkers");
   Config config = WalkersConfig(seq);
-  config.dynamic.carry_frames = carry_frames;
-  config.dynamic.depth_check = false;  // the epipolar test and the boxes only
+  config.dynamic.refinements.box_carry = carry;     // up to kCarryFrames (8) frames (dynamic_stage.cpp)
+  config.dynamic.refinements.depth_check = false;  // the epipolar test and the boxes only
   std::map<Timestamp, std::vector<Detection>> boxes;
   for (int i = kFirst; i < kFirst + kFrames; i += 2) {
     const synth::RenderedFrame& f = dynamic::test::Frame("walkers", i);
@@ -98,13 +98,13 @@ Tally RunWalkers(int carry_frames) {
 }
 
 TEST(DynamicStage, BoxesOfWalkersTheDetectorMissedAreCarriedIntoTheFrame) {
-  const Tally off = RunWalkers(0), on = RunWalkers(3);
+  const Tally off = RunWalkers(false), on = RunWalkers(true);
   const auto share = [](int a, int b) { return b > 0 ? static_cast<double>(a) / b : 0.0; };
-  std::printf("missed frames, carry off: recall %.3f, static lost %.3f; carry 3: recall %.3f, static lost %.3f, %d boxes\n",
+  std::printf("missed frames, carry off: recall %.3f, static lost %.3f; carry on: recall %.3f, static lost %.3f, %d boxes\n",
               share(off.moving_rejected, off.moving), share(off.still_rejected, off.still),
               share(on.moving_rejected, on.moving), share(on.still_rejected, on.still), on.carried_boxes);
   EXPECT_EQ(off.carried_boxes, 0);
-  // Keypoints without a flow pair (e.g. within dynamic.border of the edge) are kept
+  // Keypoints without a flow pair (e.g. within kBorder of the edge, flow.cpp) are kept
   // and flagged as untested for the semantic thread.
   EXPECT_TRUE(on.labels_consistent);
   EXPECT_GT(on.unjudged, 0);
@@ -138,7 +138,7 @@ StrideTally RunStride(int stride) {
   constexpr int kFirst = 30, kFrames = 24;
   const synth::SynthSequence& seq = dynamic::test::Sequence("walkers");
   Config config = WalkersConfig(seq);
-  config.dynamic.depth_check = false;
+  config.dynamic.refinements.depth_check = false;
   config.detector.stride = stride;
   auto detector = std::make_unique<CountingDetector>();
   CountingDetector* counting = detector.get();

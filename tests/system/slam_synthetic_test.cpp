@@ -39,7 +39,7 @@ struct Outcome {
 };
 
 // Person boxes over all but the top-left 120x90 px of the first n frames of dir,
-// in a detections file at `file` (three boxes, each under dynamic.max_box_area).
+// in a detections file at `file` (three boxes, each under the box area limit, R8).
 void WriteCoveringBoxes(const fs::path& dir, std::size_t n, const fs::path& file) {
   std::ifstream rgb(dir / "rgb.txt");
   std::ofstream det(file);
@@ -68,7 +68,7 @@ Outcome RunOn(const fs::path& dir, bool sequential, std::pair<std::size_t, std::
   if (covered > 0) {
     WriteCoveringBoxes(dir, covered, boxes / "covering.txt");
     rc.config.dynamic.mode = "semantic";
-    rc.config.dynamic.min_kept_ratio = 0;
+    rc.config.dynamic.refinements.fallback = false;
     rc.config.detector.backend = "file";
     rc.config.detector.detections_file = (boxes / "covering.txt").string();
     detector = MakeDetector(rc.config.detector, dir);
@@ -253,7 +253,7 @@ TEST(SlamSynthetic, InitialisationWaitsForEnoughKeptKeypoints) {
   EXPECT_NE(states[5], TrackState::kNotInitialized);
 }
 
-// dynamic.first_frame_rejudge: the first frame has no flow, so sg judges it by its
+// dynamic.refinements.first_frame_rejudge: the first frame has no flow, so sg judges it by its
 // boxes alone. A false "person" box over most of frame 0 of a static scene (as
 // Yolo-Fastest gives on fr1_rpy) then kept its keypoints out of the first keyframe
 // and frame 1 could barely track. Judged again with frame 1 as the other image,
@@ -283,7 +283,7 @@ TEST(SlamSynthetic, AFalseBoxInTheFirstFrameIsJudgedAgainWithTheNext) {
   const auto run = [&](bool rejudge, bool with_box) {
     RunConfig rc = ResolveRunConfig(std::nullopt, seq);
     rc.config.dynamic.mode = "sg";
-    rc.config.dynamic.first_frame_rejudge = rejudge;
+    rc.config.dynamic.refinements.first_frame_rejudge = rejudge;
     const TumDataset dataset(seq, rc.config.dataset);
     std::unique_ptr<Detector> detector;
     if (with_box) detector = MakeDetector(rc.config.detector, seq);
@@ -334,7 +334,7 @@ TEST(SlamSynthetic, StartsWithASmallOrbBudget) {
 // Trusted map points (tracking/trusted_pose.h) with no dynamic rejection at all
 // (--mode none): people walking through the view put fresh points into the map at
 // every keyframe; when those points alone may not set the pose until they have
-// stayed put for trust_delay, the walkers no longer drag the camera along.
+// stayed put for a while (kTrustDelay), the walkers no longer drag the camera along.
 TEST(SlamSynthetic, TrustedMapPointsHoldThePoseAgainstWalkers) {
   const fs::path seq = Walkers();
   const auto gt = ReadTumTrajectory(seq / "groundtruth.txt");
@@ -342,7 +342,7 @@ TEST(SlamSynthetic, TrustedMapPointsHoldThePoseAgainstWalkers) {
   const Outcome trusted = RunOn(seq, /*sequential=*/true, {0, 0}, 0, nullptr, none);
   const Outcome every = RunOn(seq, /*sequential=*/true, {0, 0}, 0, nullptr, [&](Config& c) {
     none(c);
-    c.tracking.trust_delay = 0;  // ORB-SLAM2: every match sets the pose
+    c.tracking.refinements.trusted_points = false;  // ORB-SLAM2: every match sets the pose
   });
   EXPECT_EQ(trusted.tracked, trusted.frames);
   EXPECT_TRUE(trusted.map_problems.empty()) << trusted.map_problems.front();
@@ -352,7 +352,7 @@ TEST(SlamSynthetic, TrustedMapPointsHoldThePoseAgainstWalkers) {
   EXPECT_GT(without, 0.1) << "the walkers no longer disturb plain tracking: this test shows nothing";
 }
 
-// tracking.keyframe_velocity_central: with a rolling shutter (camera.readout) a
+// tracking.refinements.keyframe_velocity_central: with a rolling shutter (camera.readout) a
 // keyframe goes to local mapping one frame late, its keypoints corrected with the
 // angular velocity of the frames on either side. The synthetic images have a
 // global shutter, so a readout only adds error here, whichever velocity corrects
@@ -366,7 +366,7 @@ TEST(SlamSynthetic, KeyFramesWaitForTheNextFrameWithARollingShutter) {
   const auto shutter = [](bool central) {
     return [central](Config& c) {
       c.camera.readout = 0.03;
-      c.tracking.keyframe_velocity_central = central;
+      c.tracking.refinements.keyframe_velocity_central = central;
     };
   };
   std::optional<Outcome> central;
@@ -393,7 +393,7 @@ TEST(SlamSynthetic, KeyFramesWaitForTheNextFrameWithARollingShutter) {
 // its sgslam.yaml gives the readout): taken for a global shutter the trajectory is
 // 8x worse; the keypoints corrected with the fitted angular velocity fix most of
 // it; the keyframes corrected again with the central difference of the poses on
-// either side (tracking.keyframe_velocity_central; the first keyframe with the
+// either side (tracking.refinements.keyframe_velocity_central; the first keyframe with the
 // step to the next frame) halve what is left. The exported frames' refit
 // (frame_velocity_central) leaves tracking as it was; here it does not gain
 // (0.0073 m against 0.0063), on TUM's fr1_rpy it does (README "Rolling shutter").
@@ -404,10 +404,10 @@ TEST(SlamSynthetic, RollingShutterCorrectionFollowsARenderedRollingShutter) {
   const Outcome global = RunOn(seq, true, {0, 0}, 0, nullptr, [](Config& c) { c.camera.readout = 0; });
   const Outcome fitted = RunOn(seq, true, {0, 0}, 0, nullptr, [](Config& c) {
     EXPECT_DOUBLE_EQ(c.camera.readout, 0.03) << "the readout comes from the sequence's sgslam.yaml";
-    c.tracking.keyframe_velocity_central = false;
-    c.tracking.frame_velocity_central = false;
+    c.tracking.refinements.keyframe_velocity_central = false;
+    c.tracking.refinements.frame_velocity_central = false;
   });
-  const Outcome keyframes = RunOn(seq, true, {0, 0}, 0, nullptr, [](Config& c) { c.tracking.frame_velocity_central = false; });
+  const Outcome keyframes = RunOn(seq, true, {0, 0}, 0, nullptr, [](Config& c) { c.tracking.refinements.frame_velocity_central = false; });
   const Outcome central = RunOn(seq, true);
   for (const Outcome* o : {&global, &fitted, &keyframes, &central}) {
     EXPECT_EQ(o->tracked, o->frames);

@@ -3,10 +3,14 @@
 // that wakes every waiter, and what a full queue does with a new item:
 //   kBlock       the producer waits for room (local mapping's keyframes, the reader);
 //   kDropOldest  the oldest item is dropped and counted: a live system behind the
-//                camera wants the newest data, stale items are worthless (detector).
+//                camera wants the newest data, stale items are worthless (detector,
+//                the ROS node's frames).
+// PopFor() and Wake() serve a consumer that also has other work (the ROS node's
+// tracking thread: save requests between frames).
 // No sleeps, no polling.
 #pragma once
 
+#include <chrono>
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
@@ -57,6 +61,26 @@ class BoundedQueue {
     return item;
   }
 
+  // Pop() that waits at most `wait` and returns early, with nullopt, on Wake(); also
+  // nullopt on time-out and once shut down and drained (shut_down() tells which).
+  std::optional<T> PopFor(std::chrono::milliseconds wait) {
+    std::unique_lock lock(mutex_);
+    not_empty_.wait_for(lock, wait, [&] { return shut_down_ || woken_ || !items_.empty(); });
+    woken_ = false;
+    if (items_.empty()) return std::nullopt;
+    T item = std::move(items_.front());
+    items_.pop_front();
+    not_full_.notify_one();
+    return item;
+  }
+
+  // Ends the wait of a PopFor (the consumer has work other than items).
+  void Wake() {
+    std::lock_guard lock(mutex_);
+    woken_ = true;
+    not_empty_.notify_all();
+  }
+
   // Items already queued can still be popped; pushes fail from now on.
   void Shutdown() {
     std::lock_guard lock(mutex_);
@@ -77,6 +101,10 @@ class BoundedQueue {
     return out;
   }
 
+  bool shut_down() const {
+    std::lock_guard lock(mutex_);
+    return shut_down_;
+  }
   std::size_t size() const {
     std::lock_guard lock(mutex_);
     return items_.size();
@@ -94,6 +122,7 @@ class BoundedQueue {
   std::deque<T> items_;
   std::size_t dropped_ = 0;
   bool shut_down_ = false;
+  bool woken_ = false;
 };
 
 }  // namespace sgslam

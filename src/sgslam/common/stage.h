@@ -31,12 +31,14 @@ class Stage {
   Stage& operator=(const Stage&) = delete;
 
   // Once, before the first Post: inline, or a thread named `name` that works
-  // through the queue until Finish().
-  void Start(bool threaded, Work work) {
+  // through the queue until Finish(); on_thread: run first on that thread (its
+  // priority, say).
+  void Start(bool threaded, Work work, std::function<void()> on_thread = {}) {
     work_ = std::move(work);
     if (!threaded) return;
-    thread_ = std::thread([this] {
+    thread_ = std::thread([this, on_thread = std::move(on_thread)] {
       NameThisThread(name_.c_str());
+      if (on_thread) on_thread();
       while (auto item = queue_.Pop()) {
         busy_ = true;
         work_(std::move(*item));
@@ -64,6 +66,7 @@ class Stage {
 
   bool threaded() const { return thread_.joinable(); }
   std::size_t queued() const { return queue_.size(); }  // items waiting; 0 inline
+  std::size_t dropped() const { return queue_.dropped(); }  // Overflow::kDropOldest: items pushed out
   bool busy() const { return busy_; }                  // the thread is on an item; false inline
 
  private:

@@ -7,11 +7,8 @@
 
 namespace sgslam {
 
-// Whether a key is one most users set (configs/README.md); the others are advanced.
-bool IsBasicKey(const std::string& section, const std::string& key);
-
-// Markdown: per section, every key with its default, unit and meaning, and whether
-// it is basic or advanced.
+// Markdown: per section, every key with its default, unit and meaning (sub-sections'
+// switches as `sub.key`), then the keys earlier versions had (removed_keys.h).
 std::string ConfigReferenceMarkdown();
 
 }  // namespace sgslam

@@ -15,6 +15,7 @@
 
 #include "sgslam/common/error.h"
 #include "sgslam/common/regular_file.h"
+#include "sgslam/config/removed_keys.h"
 
 namespace sgslam {
 
@@ -163,6 +164,44 @@ std::string Suggestion(const std::string& name, const std::set<std::string>& kno
   return best.empty() ? "" : " (did you mean '" + best + "'?)";
 }
 
+// Reads the map `node` into `section`, whose keys are `prefix` + key (sub-sections
+// recursively). A key this version no longer has (removed_keys.h) goes to
+// `obsolete` when it holds its last value (a config_used.yaml of an earlier
+// version: the run does what it asks) and to `removed` otherwise (it cannot); other
+// unknown keys go to `unknown`.
+template <class S>
+void ReadSection(const fs::path& file, const std::string& prefix, const YAML::Node& node, S& section,
+                 std::vector<std::string>& unknown, std::vector<std::string>& removed,
+                 std::vector<std::string>& obsolete) {
+  std::set<std::string> known_keys;
+  section.Visit([&](const char* key, auto& value, const char*) {
+    known_keys.insert(key);
+    const YAML::Node v = node[key];
+    if (!v) return;
+    if constexpr (ConfigSubsection<std::decay_t<decltype(value)>>) {
+      if (!v.IsMap()) throw ConfigError(Where(file, v) + ": '" + prefix + key + "' must be a map of keys");
+      ReadSection(file, prefix + key + ".", v, value, unknown, removed, obsolete);
+    } else {
+      ReadValue(file, prefix + key, v, value);
+    }
+  });
+  for (const auto& kv : node) {
+    const std::string key = kv.first.Scalar();
+    if (known_keys.count(key)) continue;
+    if (const RemovedConfigKey* gone = FindRemovedConfigKey(prefix + key)) {
+      const std::string text = Where(file, kv.first) + ": '" + prefix + key + "' is no longer a key: " +
+                               gone->now + " (its value was " + gone->last_value + ")";
+      if (kv.second.IsScalar() && SameConfigValue(kv.second.Scalar(), gone->last_value)) {
+        obsolete.push_back(prefix + key);
+      } else {
+        removed.push_back(text + "; the file sets it to something else, which this version cannot do");
+      }
+      continue;
+    }
+    unknown.push_back(Where(file, kv.first) + ": unknown key '" + prefix + key + "'" + Suggestion(key, known_keys));
+  }
+}
+
 }  // namespace
 
 void LoadConfigFile(const fs::path& file, Config& config) {
@@ -181,37 +220,39 @@ void LoadConfigFile(const fs::path& file, Config& config) {
     }
     strict = value == "error";
   }
-  std::vector<std::string> unknown;
+  std::vector<std::string> unknown, removed, obsolete;
   std::set<std::string> known_sections;
   config.VisitSections([&](const char* name, auto& section) {
     known_sections.insert(name);
     const YAML::Node node = root[name];
     if (!node) return;
     if (!node.IsMap()) throw ConfigError(Where(file, node) + ": section '" + name + "' must be a map");
-    std::set<std::string> known_keys;
-    section.Visit([&](const char* key, auto& value, const char*) {
-      known_keys.insert(key);
-      if (const YAML::Node v = node[key]) ReadValue(file, std::string(name) + "." + key, v, value);
-    });
-    for (const auto& kv : node) {
-      const std::string key = kv.first.Scalar();
-      if (!known_keys.count(key)) {
-        unknown.push_back(Where(file, kv.first) + ": unknown key '" + name + "." + key + "'" +
-                          Suggestion(key, known_keys));
-      }
-    }
+    ReadSection(file, std::string(name) + ".", node, section, unknown, removed, obsolete);
   });
+  if (!obsolete.empty()) {
+    std::string keys;
+    for (const std::string& k : obsolete) keys += (keys.empty() ? "" : ", ") + k;
+    spdlog::warn("{}: {} key(s) this version no longer has hold the values it uses and are ignored: {}", file.string(),
+                 obsolete.size(), keys);
+  }
   for (const auto& kv : root) {
     const std::string name = kv.first.Scalar();
     if (!known_sections.count(name) && name != kUnknownKeysDirective) {
       unknown.push_back(Where(file, kv.first) + ": unknown section '" + name + "'" + Suggestion(name, known_sections));
     }
   }
-  if (unknown.empty()) return;
   if (!strict) {
+    for (const std::string& r : removed) spdlog::warn("{} ignored", r);
     for (const std::string& u : unknown) spdlog::warn("{} ignored", u);
     return;
   }
+  if (!removed.empty()) {
+    std::string message = "configuration keys this version no longer has (docs/configuration.md, \"Removed keys\"; '" +
+                          std::string(kUnknownKeysDirective) + ": warn' at the top of the file ignores them):";
+    for (const std::string& r : removed) message += "\n  " + r;
+    throw ConfigError(message);
+  }
+  if (unknown.empty()) return;
   std::string message = "unknown configuration keys (docs/configuration.md lists them all; put '" +
                         std::string(kUnknownKeysDirective) + ": warn' at the top of the file to ignore them):";
   for (const std::string& u : unknown) message += "\n  " + u;
@@ -256,22 +297,33 @@ template std::string ConfigValueText(const bool&);
 template std::string ConfigValueText(const std::string&);
 template std::string ConfigValueText(const std::map<std::string, double>&);
 
+namespace {
+
+// `section`'s keys at `indent`, sub-sections one level deeper.
+template <class S>
+void WriteSection(std::ostringstream& out, const std::string& indent, const S& section) {
+  const_cast<S&>(section).Visit([&](const char* key, const auto& value, const char* unit) {
+    out << indent << key << ":";
+    using T = std::decay_t<decltype(value)>;
+    if constexpr (ConfigSubsection<T>) {
+      out << "  # " << unit << "\n";
+      WriteSection(out, indent + "  ", value);
+    } else if constexpr (std::is_same_v<T, std::map<std::string, double>>) {
+      out << "  # " << unit << "\n";
+      for (const auto& [entry, number] : value) out << indent << "  " << Quoted(entry) << ": " << number << "\n";
+    } else {
+      out << " " << ConfigValueText(value) << "  # " << unit << "\n";
+    }
+  });
+}
+
+}  // namespace
+
 std::string ConfigToYaml(const Config& config) {
   std::ostringstream out;
-  config.VisitSections([&](const char* name, auto& section) {
+  config.VisitSections([&](const char* name, const auto& section) {
     out << name << ":\n";
-    section.Visit([&](const char* key, const auto& value, const char* unit) {
-      out << "  " << key << ": ";
-      using T = std::decay_t<decltype(value)>;
-      if constexpr (std::is_same_v<T, std::map<std::string, double>>) {
-        out << "  # " << unit << "\n";
-        for (const auto& [entry, number] : value) {
-          out << "    " << Quoted(entry) << ": " << number << "\n";
-        }
-      } else {
-        out << ConfigValueText(value) << "  # " << unit << "\n";
-      }
-    });
+    WriteSection(out, "  ", section);
   });
   return out.str();
 }

@@ -8,6 +8,11 @@
 
 namespace sgslam {
 
+// A sub-section of a section (dynamic.refinements): a struct that lists its own
+// keys with Visit(), as a section does.
+template <class T>
+concept ConfigSubsection = requires(T& t) { t.Visit([](const char*, auto&, const char*) {}); };
+
 // The top-level entry of a config file that turns its unknown keys from errors into
 // warnings: `unknown_keys: warn` (default: error).
 inline constexpr const char* kUnknownKeysDirective = "unknown_keys";

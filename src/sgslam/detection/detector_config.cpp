@@ -18,7 +18,7 @@ namespace sgslam {
 //   2  small things a person picks up and puts down (tableware, food, books,
 //      remote, keyboard, mouse, laptop) and chairs, which get pushed around.
 //   1  furniture, appliances, screens, plants, street fixtures: static.
-// With dynamic_min_weight = 3, levels 3..5 are moving objects (ClassTable).
+// With ClassTable::kMinWeight = 3, levels 3..5 are moving objects (ClassTable).
 std::map<std::string, double> DefaultDynamicWeights() {
   // clang-format off
   return {
@@ -62,12 +62,9 @@ void DetectorConfig::Validate(ConfigChecker& c) const {
   c.Check(score_threshold > 0.0 && score_threshold <= 1.0, "score_threshold", score_threshold, "must be in (0, 1]");
   c.Check(person_score_threshold > 0.0 && person_score_threshold <= 1.0, "person_score_threshold",
           person_score_threshold, "must be in (0, 1]");
-  c.InRange("nms_threshold", nms_threshold, 0.0, 1.0);
   c.InRange("threads", threads, 0, 64);
   c.InRange("timeout_ms", timeout_ms, 0, 60000);
   c.InRange("stride", stride, 1, 30);
-  c.Check(dynamic_min_weight > 1.0 && dynamic_min_weight <= 5.0, "dynamic_min_weight", dynamic_min_weight,
-          "must be in (1, 5]");
   for (const auto& [name, w] : dynamic_weight) {
     const std::string key = "dynamic_weight." + name;
     c.Check(!name.empty(), key.c_str(), w, "needs a class name");

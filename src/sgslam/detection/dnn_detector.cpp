@@ -10,11 +10,9 @@ namespace sgslam {
 DnnDetector::DnnDetector(const DetectorConfig& config) : config_(config) {
   decode_.score_threshold = static_cast<float>(config.score_threshold);
   decode_.person_score_threshold = static_cast<float>(config.person_score_threshold);
-  decode_.nms_threshold = static_cast<float>(config.nms_threshold);
   const float floor = std::min(decode_.score_threshold, decode_.person_score_threshold);
   model_ = LoadDarknetModel(ResolveModelDir(config.model_dir), config.model, floor);
   output_names_ = model_.net.getUnconnectedOutLayersNames();
-  if (config.threads > 0) cv::setNumThreads(config.threads);  // process-wide: see the header
 }
 
 std::vector<Detection> DnnDetector::Detect(const cv::Mat& image, Timestamp /*t*/) {
@@ -36,7 +34,7 @@ std::string DnnDetector::Describe() const {
   char buf[200];
   std::snprintf(buf, sizeof buf, "; input %dx%d, score >= %.2f (person >= %.2f), NMS IoU %.2f, OpenCV threads %d",
                 config_.input_size, config_.input_size, config_.score_threshold, config_.person_score_threshold,
-                config_.nms_threshold, cv::getNumThreads());
+                static_cast<double>(decode_.nms_threshold), cv::getNumThreads());
   return "OpenCV dnn " + model_.cfg.string() + buf;
 }
 

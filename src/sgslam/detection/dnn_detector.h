@@ -5,8 +5,9 @@
 // relies on (models/yolo-fastest-1.1-coco/README.md).
 //
 // Thread budget. cv::setNumThreads is process-wide: it sets how many threads every
-// OpenCV parallel_for_ of the process may use, tracking's included. The constructor
-// applies config.threads (default 1) once, so inference runs on the detection
+// OpenCV parallel_for_ of the process may use, tracking's included. The programs
+// (sgslam run, the ROS node) apply config.threads (default 1) once, before any
+// thread starts, and a library sets no process-wide state: so inference runs on the detection
 // thread alone and tracking's OpenCV calls (pyramids, blur, LK flow, RANSAC) run
 // on the tracking thread alone: on a 2-core machine each thread gets one core and
 // neither waits for the other's thread pool. With OpenCV's default (all cores),

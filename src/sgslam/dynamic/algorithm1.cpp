@@ -29,24 +29,32 @@ const char* ModeName(Mode mode) {
 }
 
 PairSet TrackPairs(const FlowFrame& prev, const FlowFrame& cur, const std::vector<cv::KeyPoint>& keys,
-                   const DynamicConfig& config, const UndistortPointsFn& undistort) {
+                   const DynamicConfig& config, const UndistortPointsFn& undistort, const FlowParams& flow) {
   const Stopwatch watch;
   PairSet p;
   p.cur.resize(keys.size());
   std::transform(keys.begin(), keys.end(), p.cur.begin(), [](const cv::KeyPoint& k) { return k.pt; });
-  p.flow = TrackBackward(prev, cur, p.cur, config);  // lines 1-2 (flow.h)
+  p.flow = TrackBackward(prev, cur, p.cur, flow);  // lines 1-2 (flow.h)
   p.cur_un = p.cur, p.prev_un = p.flow.prev;
-  if (undistort && config.undistort_pairs) undistort(p.cur_un), undistort(p.prev_un);  // R1
+  if (undistort && config.refinements.undistort_pairs) undistort(p.cur_un), undistort(p.prev_un);  // R1
   p.ms = watch.ElapsedMs();
   return p;
 }
 
 namespace {
 
+// Line 3's RANSAC: the authors' release's settings.
+constexpr double kRansacThreshold = 1.0;    // px, OpenCV's symmetric epipolar distance for an inlier
+constexpr double kRansacConfidence = 0.99;  // probability of an outlier-free sample (OpenCV's default)
+constexpr int kRansacIterations = 1000;     // at most (OpenCV's default)
+// R3 (a): pairs outside fresh dynamic boxes needed to fit F on them alone, else on
+// all valid pairs, as the release does (OpenCV's RANSAC needs 15).
+constexpr int kMinStaticPairs = 20;
+
 // Line 3: F by 7-point RANSAC on the pairs of `fit` (R3; on every valid pair when
 // too few), then eq. (4) for every valid pair.
 void FitFundamental(const PairSet& pairs, const std::vector<bool>& valid, std::vector<bool>& fit,
-                    const DynamicConfig& config, RejectionResult& r) {
+                    RejectionResult& r) {
   std::vector<Eigen::Vector2d> p1, p2;
   std::vector<bool> preferred;
   for (size_t i = 0; i < valid.size(); ++i) {
@@ -57,7 +65,7 @@ void FitFundamental(const PairSet& pairs, const std::vector<bool>& valid, std::v
   }
   r.fundamental = geometry::EstimateFundamental(
       p1, p2, preferred,
-      {config.ransac_threshold, config.ransac_confidence, config.ransac_iterations, config.min_static_pairs});
+      {kRansacThreshold, kRansacConfidence, kRansacIterations, kMinStaticPairs});
   if (!r.fundamental) return;
   for (size_t i = 0, k = 0; i < valid.size(); ++i) {
     if (valid[i]) r.keypoints[i].distance = geometry::EpipolarDistance(r.fundamental->F_cur_prev, p1[k], p2[k]), ++k;
@@ -114,7 +122,8 @@ void Count(RejectionResult& r) {
 
 RejectionResult JudgePairs(Mode mode, const PairSet& pairs, const std::vector<cv::KeyPoint>& keys,
                            const std::vector<Detection>& detections, const WeightFn& weight,
-                           const DynamicConfig& config, const DepthCheckInput* depth, const DynamicPrior* prior) {
+                           const DynamicConfig& config, const DepthCheckInput* depth, const DynamicPrior* prior,
+                           const Algorithm1Params& params) {
   const Stopwatch total;
   RejectionResult r;
   r.eps_used = config.eps_std;
@@ -123,7 +132,10 @@ RejectionResult JudgePairs(Mode mode, const PairSet& pairs, const std::vector<cv
   const KeypointWeighting w = WeighKeypoints(mode, keys, detections, weight, config, depth);
   r.keypoints.resize(keys.size());
   for (size_t i = 0; i < keys.size(); ++i) r.keypoints[i].weight = w.w[i];
-  const int min_kept = static_cast<int>(std::ceil(config.min_kept_ratio * static_cast<double>(keys.size())));
+  const FallbackParams& fallback = params.fallback;  // R7; off: nothing restored
+  const int min_kept = config.refinements.fallback
+                           ? static_cast<int>(std::ceil(fallback.min_kept_ratio * static_cast<double>(keys.size())))
+                           : 0;
   if (mode == Mode::kNone || mode == Mode::kSemantic) {
     JudgeByBoxes(mode, min_kept, r);
     Count(r);
@@ -142,22 +154,22 @@ RejectionResult JudgePairs(Mode mode, const PairSet& pairs, const std::vector<cv
     valid[i] = pairs.flow.status[i] == PairStatus::kOk;
   }
   std::vector<bool> fit = PairsForTheFit(mode, pairs, valid, w, prior);  // R3
-  FitFundamental(pairs, valid, fit, config, r);
-  if (r.fundamental && config.judge_appearance_pairs) {
+  FitFundamental(pairs, valid, fit, r);
+  if (r.fundamental && config.refinements.appearance_pairs) {
     MeasureAppearancePairs(pairs, r.fundamental->F_cur_prev, r.keypoints);  // R4
   }
   r.ms.fundamental = stage.ElapsedMs();
 
   stage.Restart();
-  const DepthEvidence evidence = CheckPairDepths(mode, pairs, valid, fit, depth, config, r);  // R5
+  const DepthEvidence evidence = CheckPairDepths(mode, pairs, valid, fit, depth, config, params.depth, r);  // R5
   r.ms.depth = stage.ElapsedMs();
 
   // Lines 4-14, then the fallback (R7).
   stage.Restart();
   int kept = Decide(mode, r.eps_used, evidence, config, r.keypoints);
-  while (kept < min_kept && r.relax_steps < config.relax_steps) {
+  while (kept < min_kept && r.relax_steps < fallback.relax_steps) {
     ++r.relax_steps;
-    r.eps_used *= config.relax_factor;
+    r.eps_used *= fallback.relax_factor;
     kept = Decide(mode, r.eps_used, evidence, config, r.keypoints);
   }
   if (kept < min_kept) r.restored = RestoreMostStatic(mode, min_kept - kept, r.keypoints);
@@ -170,11 +182,14 @@ RejectionResult JudgePairs(Mode mode, const PairSet& pairs, const std::vector<cv
 RejectionResult RejectDynamicFeatures(const FlowFrame& prev, const FlowFrame& cur,
                                       const std::vector<cv::KeyPoint>& keys, const std::vector<Detection>& detections,
                                       const WeightFn& weight, const DynamicConfig& config,
-                                      const DepthCheckInput* depth, const UndistortPointsFn& undistort) {
+                                      const DepthCheckInput* depth, const UndistortPointsFn& undistort,
+                                      const Algorithm1Params& params) {
   const Mode mode = ParseMode(config.mode);
   PairSet pairs;
-  if (mode == Mode::kGeometric || mode == Mode::kSg) pairs = TrackPairs(prev, cur, keys, config, undistort);
-  return JudgePairs(mode, pairs, keys, detections, weight, config, depth);
+  if (mode == Mode::kGeometric || mode == Mode::kSg) {
+    pairs = TrackPairs(prev, cur, keys, config, undistort, params.flow);
+  }
+  return JudgePairs(mode, pairs, keys, detections, weight, config, depth, nullptr, params);
 }
 
 }  // namespace sgslam::dynamic

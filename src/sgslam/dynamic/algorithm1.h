@@ -22,7 +22,9 @@
 //
 // The code departs from the paper where measurements showed it must; each
 // departure is a named step of refinements.h, called from JudgePairs in the order
-// listed there, with its reason and measured effect in docs/algorithm1.md.
+// listed there, with its reason and measured effect in docs/algorithm1.md. Those
+// that can be switched off are DynamicConfig::refinements. The constants of the
+// steps are named beside their use; those the unit tests vary are Algorithm1Params.
 // Thread safety: free functions on const inputs; deterministic for equal inputs.
 #pragma once
 
@@ -68,6 +70,29 @@ struct KeypointVerdict {
   cv::Point2f prev;  // p1, px, in the previous image (pair == kOk)
 };
 
+// R7, the fallback (refinements.h): fewer than ceil(min_kept_ratio * keypoints)
+// kept: eps_std is multiplied by relax_factor up to relax_steps times, then the most
+// static-looking rejected keypoints are restored (RestoreMostStatic; semantic mode
+// restores all). DynamicConfig::refinements.fallback false: none of it.
+// Not measured on their own (docs/algorithm1.md, R7).
+constexpr double kMinKeptRatio = 0.2;  // share of keypoints kept at least; at 0.1 dyn_dev's map started on 102 points
+constexpr double kRelaxFactor = 2.0;   // eps_std factor per relaxation step: doubling, so that few steps are needed
+constexpr int kRelaxSteps = 3;         // relaxation steps, eps_std up to 8x (24 px) before restoring by rank
+
+struct FallbackParams {
+  double min_kept_ratio = kMinKeptRatio;
+  double relax_factor = kRelaxFactor;
+  int relax_steps = kRelaxSteps;
+};
+
+// The values of Algorithm 1's steps that the unit tests vary to check their math;
+// every run (DynamicStage) uses the defaults, the named constants.
+struct Algorithm1Params {
+  FlowParams flow;          // line 2's appearance limit (flow.h)
+  DepthCheckParams depth;   // R5, the RGB-D check (depth_check.h)
+  FallbackParams fallback;  // R7
+};
+
 struct RejectionTiming {  // ms
   double flow = 0, fundamental = 0, depth = 0, decide = 0, total = 0;
 };
@@ -91,7 +116,7 @@ struct RejectionResult {
   int valid_pairs = 0;       // flow pairs that passed line 2
   std::optional<geometry::FundamentalEstimate> fundamental;
   std::optional<MotionEstimate> motion;  // PnP motion of the RGB-D check
-  bool depth_ignored = false;            // the check flagged more than config.depth_max_share: ignored
+  bool depth_ignored = false;            // the check flagged more than DepthCheckParams::max_share: ignored
   double eps_used = 0;  // px, eps_std after the fallback's relaxation
   int relax_steps = 0;  // fallback relaxation steps taken
   int restored = 0;     // keypoints kept by the fallback ranking (or by restore-all)
@@ -100,30 +125,34 @@ struct RejectionResult {
 
 struct DynamicPrior;  // refinements.h
 
-// Lines 1-2. undistort: applied to both ends of every pair when config.undistort_pairs.
+// Lines 1-2. undistort: applied to both ends of every pair when
+// config.refinements.undistort_pairs (R1).
 PairSet TrackPairs(const FlowFrame& prev, const FlowFrame& cur, const std::vector<cv::KeyPoint>& keys,
-                   const DynamicConfig& config, const UndistortPointsFn& undistort = {});
+                   const DynamicConfig& config, const UndistortPointsFn& undistort = {},
+                   const FlowParams& flow = {});
 
 // Lines 3-14 in `mode` (config.mode is not read). depth: the RGB-D check's
-// inputs, used when config.depth_check (null: skipped); its T_cur_prev is replaced
-// by the PnP estimate (no estimate: no check). prior: the previous frames'
-// rejections (config.prior_cell; null: none).
+// inputs, used when config.refinements.depth_check (null: skipped); its T_cur_prev
+// is replaced by the PnP estimate (no estimate: no check). prior: the previous
+// frames' rejections (R3, config.refinements.prior_cells; null: none).
 RejectionResult JudgePairs(Mode mode, const PairSet& pairs, const std::vector<cv::KeyPoint>& keys,
                            const std::vector<Detection>& detections, const WeightFn& weight,
                            const DynamicConfig& config, const DepthCheckInput* depth = nullptr,
-                           const DynamicPrior* prior = nullptr);
+                           const DynamicPrior* prior = nullptr, const Algorithm1Params& params = {});
 
 // Lines 1-14 in config.mode: TrackPairs (geometric and sg) then JudgePairs.
 RejectionResult RejectDynamicFeatures(const FlowFrame& prev, const FlowFrame& cur,
                                       const std::vector<cv::KeyPoint>& keys, const std::vector<Detection>& detections,
                                       const WeightFn& weight, const DynamicConfig& config,
-                                      const DepthCheckInput* depth = nullptr, const UndistortPointsFn& undistort = {});
+                                      const DepthCheckInput* depth = nullptr, const UndistortPointsFn& undistort = {},
+                                      const Algorithm1Params& params = {});
 
 inline RejectionResult RejectDynamicFeatures(const cv::Mat& prev_gray, const cv::Mat& cur_gray,
                                              const std::vector<cv::KeyPoint>& keys,
                                              const std::vector<Detection>& detections, const WeightFn& weight,
-                                             const DynamicConfig& config) {
-  return RejectDynamicFeatures(FlowFrame{prev_gray, {}}, FlowFrame{cur_gray, {}}, keys, detections, weight, config);
+                                             const DynamicConfig& config, const Algorithm1Params& params = {}) {
+  return RejectDynamicFeatures(FlowFrame{prev_gray, {}}, FlowFrame{cur_gray, {}}, keys, detections, weight, config,
+                               nullptr, {}, params);
 }
 
 }  // namespace sgslam::dynamic

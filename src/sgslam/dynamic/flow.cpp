@@ -10,11 +10,18 @@ namespace sgslam::dynamic {
 
 namespace {
 
-cv::Size Window(const DynamicConfig& c) { return {c.lk_window, c.lk_window}; }
+// Lucas-Kanade flow (line 1): the authors' release's settings.
+constexpr int kLkWindow = 21;        // px, side of the square LK window
+constexpr int kLkLevels = 3;         // pyramid levels above the full image (OpenCV maxLevel)
+constexpr int kLkIterations = 30;    // per level
+constexpr double kLkEpsilon = 0.01;  // px, LK stops when the update is smaller
+// Pair filters (line 2, after DS-SLAM).
+constexpr double kBorder = 8.0;  // px, pairs closer than this to an image edge (either image) are dropped
+constexpr int kPatchRadius = 2;  // px, the appearance patch is (2r+1)^2 around both points (DS-SLAM's 5x5)
 
-cv::TermCriteria Stop(const DynamicConfig& c) {
-  return {cv::TermCriteria::COUNT | cv::TermCriteria::EPS, c.lk_iterations, c.lk_epsilon};
-}
+cv::Size Window() { return {kLkWindow, kLkWindow}; }
+
+cv::TermCriteria Stop() { return {cv::TermCriteria::COUNT | cv::TermCriteria::EPS, kLkIterations, kLkEpsilon}; }
 
 // An image or its pyramid, as calcOpticalFlowPyrLK takes either.
 cv::_InputArray LkInput(const FlowFrame& f) {
@@ -36,9 +43,9 @@ float Bilinear(const cv::Mat& image, float x, float y) {
 
 }  // namespace
 
-std::vector<cv::Mat> BuildFlowPyramid(const cv::Mat& gray, const DynamicConfig& config) {
+std::vector<cv::Mat> BuildFlowPyramid(const cv::Mat& gray) {
   std::vector<cv::Mat> pyramid;
-  cv::buildOpticalFlowPyramid(gray, pyramid, Window(config), config.lk_levels, true);
+  cv::buildOpticalFlowPyramid(gray, pyramid, Window(), kLkLevels, true);
   return pyramid;
 }
 
@@ -63,7 +70,7 @@ double PatchDifference(const cv::Mat& image_a, cv::Point2f a, const cv::Mat& ima
 }
 
 FlowPairs TrackBackward(const FlowFrame& prev, const FlowFrame& cur, const std::vector<cv::Point2f>& cur_points,
-                        const DynamicConfig& config) {
+                        const FlowParams& params) {
   FlowPairs out;
   const size_t n = cur_points.size();
   out.status.assign(n, PairStatus::kFlowFailed);
@@ -71,11 +78,11 @@ FlowPairs TrackBackward(const FlowFrame& prev, const FlowFrame& cur, const std::
   std::vector<uchar> ok;
   std::vector<float> err;
   // Line 1: P1 = CalcOpticalFlowPyrLK(F2, F1, P2), current -> previous.
-  cv::calcOpticalFlowPyrLK(LkInput(cur), LkInput(prev), cur_points, out.prev, ok, err, Window(config),
-                           config.lk_levels, Stop(config));
+  cv::calcOpticalFlowPyrLK(LkInput(cur), LkInput(prev), cur_points, out.prev, ok, err, Window(), kLkLevels,
+                           Stop());
   // Line 2: drop failed flow, border pairs and pairs that changed appearance. The
   // margin also keeps the appearance patches inside both images.
-  const double margin = std::max(config.border, static_cast<double>(config.patch_radius) + 1.0);
+  const double margin = std::max(kBorder, static_cast<double>(kPatchRadius) + 1.0);
   const cv::Size size = cur.gray.size();
   for (size_t i = 0; i < n; ++i) {
     PairStatus& s = out.status[i];
@@ -83,8 +90,8 @@ FlowPairs TrackBackward(const FlowFrame& prev, const FlowFrame& cur, const std::
       s = PairStatus::kFlowFailed;
     } else if (!Inside(cur_points[i], size, margin) || !Inside(out.prev[i], size, margin)) {
       s = PairStatus::kBorder;
-    } else if (PatchDifference(cur.gray, cur_points[i], prev.gray, out.prev[i], config.patch_radius) >
-               config.max_patch_difference) {
+    } else if (PatchDifference(cur.gray, cur_points[i], prev.gray, out.prev[i], kPatchRadius) >
+               params.max_patch_difference) {
       s = PairStatus::kAppearance;
     } else {
       s = PairStatus::kOk;

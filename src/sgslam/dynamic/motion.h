@@ -18,23 +18,26 @@
 
 #include "sgslam/common/se3.h"
 #include "sgslam/dynamic/depth_check.h"
-#include "sgslam/dynamic/dynamic_config.h"
 
 namespace sgslam::dynamic {
+
+// Fewer PnP inliers than this: no motion, and no RGB-D check this frame (a motion
+// fitted on few points is not trusted to judge the others; not measured on its own).
+constexpr int kMotionMinInliers = 30;
 
 struct MotionEstimate {
   SE3 T_cur_prev;   // maps previous-camera points into the current camera
   int pairs = 0;    // pairs with a valid previous depth the estimate was fitted on
-  int inliers = 0;  // within config.motion_threshold px after the refit
+  int inliers = 0;  // within the PnP threshold (motion.cpp) after the refit
 };
 
 // prev_raw: previous positions as tracked (px, for the depth lookup); prev_un,
-// cur_un: the same pairs undistorted. use[i]: pair i may take part. nullopt when
-// fewer than config.motion_min_inliers pairs support a model.
+// cur_un: the same pairs undistorted. use[i]: pair i may take part; only previous
+// depths within [kDepthMin, kDepthMax] (depth_check.h) count. nullopt when fewer
+// than kMotionMinInliers pairs support a model.
 std::optional<MotionEstimate> EstimateMotion(const std::vector<cv::Point2f>& prev_raw,
                                              const std::vector<cv::Point2f>& prev_un,
                                              const std::vector<cv::Point2f>& cur_un, const std::vector<bool>& use,
-                                             const cv::Mat& prev_depth, double depth_factor, const Pinhole& K,
-                                             const DynamicConfig& config);
+                                             const cv::Mat& prev_depth, double depth_factor, const Pinhole& K);
 
 }  // namespace sgslam::dynamic

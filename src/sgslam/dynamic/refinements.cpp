@@ -4,13 +4,22 @@
 
 namespace sgslam::dynamic {
 
+namespace {
+
+// m, R2: a keypoint this far behind its dynamic box's object is background and keeps
+// w = 1. A real body is up to this deep (0.3 and 0.45 m measured slightly better on
+// dyn_dev's flat cut-outs; docs/algorithm1.md R2).
+constexpr double kBoxDepthBand = 0.6;
+
+}  // namespace
+
 KeypointWeighting WeighKeypoints(Mode mode, const std::vector<cv::KeyPoint>& keys,
                                  const std::vector<Detection>& detections, const WeightFn& weight,
                                  const DynamicConfig& config, const DepthCheckInput* depth) {
   const auto weights_of = [&](const std::vector<Detection>& boxes) {
     return mode == Mode::kSg && depth != nullptr  // R2
                ? KeypointWeightsWithDepth(keys, boxes, weight, depth->cur_depth, depth->depth_factor,
-                                          config.box_depth_band)
+                                          config.refinements.box_depth_band ? kBoxDepthBand : 0.0)
                : KeypointWeights(keys, boxes, weight);
   };
   KeypointWeighting out;
@@ -81,11 +90,11 @@ void MeasureAppearancePairs(const PairSet& pairs, const Eigen::Matrix3d& F, std:
 
 DepthEvidence CheckPairDepths(Mode mode, const PairSet& pairs, const std::vector<bool>& valid,
                               const std::vector<bool>& fit, const DepthCheckInput* depth, const DynamicConfig& config,
-                              RejectionResult& r) {
+                              const DepthCheckParams& params, RejectionResult& r) {
   DepthEvidence e{std::vector<bool>(valid.size(), false), std::vector<bool>(valid.size(), false)};
-  if (!config.depth_check || depth == nullptr) return e;
+  if (!config.refinements.depth_check || depth == nullptr) return e;
   r.motion = EstimateMotion(pairs.flow.prev, pairs.prev_un, pairs.cur_un, fit, depth->prev_depth,
-                            depth->depth_factor, depth->K, config);
+                            depth->depth_factor, depth->K);
   if (!r.motion) return e;  // no trustworthy motion: no check this frame
   DepthCheckInput in = *depth;
   in.T_cur_prev = r.motion->T_cur_prev;
@@ -93,7 +102,7 @@ DepthEvidence CheckPairDepths(Mode mode, const PairSet& pairs, const std::vector
   // boxes of sg give: in geometric mode movers can fill half the frame and lift it.
   in.median_level = mode == Mode::kSg;
   const std::vector<DepthResidual> residuals =
-      CheckDepth(pairs.flow.prev, pairs.cur, pairs.prev_un, pairs.cur_un, valid, in, config);
+      CheckDepth(pairs.flow.prev, pairs.cur, pairs.prev_un, pairs.cur_un, valid, in, params);
   int checked = 0, flagged = 0;
   for (size_t i = 0; i < valid.size(); ++i) {
     e.moved[i] = residuals[i].valid && residuals[i].moved;
@@ -103,12 +112,12 @@ DepthEvidence CheckPairDepths(Mode mode, const PairSet& pairs, const std::vector
   // The scene is assumed mostly static (as RANSAC does): a check that flags most
   // of it has a wrong motion (PnP on a large moving object) and would keep the
   // mover and drop the background.
-  if (flagged > config.depth_max_share * checked) {
+  if (flagged > params.max_share * checked) {
     std::fill(e.moved.begin(), e.moved.end(), false);
     r.depth_ignored = true;
-  } else if (mode == Mode::kSg && config.confirm_static > 0) {
+  } else if (mode == Mode::kSg && params.confirm_static > 0) {
     // Direct evidence of a static point outweighs the box's prior.
-    const double share = config.confirm_static;
+    const double share = params.confirm_static;
     for (size_t i = 0; i < valid.size(); ++i) {
       const DepthResidual& q = residuals[i];
       e.confirmed[i] = q.valid && !q.moved && q.depth_error <= share * q.depth_tolerance &&
@@ -121,7 +130,7 @@ DepthEvidence CheckPairDepths(Mode mode, const PairSet& pairs, const std::vector
 void JudgeWithoutDistance(Mode mode, double eps, const DynamicConfig& config, KeypointVerdict& v) {
   if (mode == Mode::kSg && v.weight > 1.0) {
     v.kept = false, v.why = Why::kSemantics;  // R6: the box is the only evidence
-  } else if (config.judge_appearance_pairs && v.loose_distance >= eps) {  // R4; NaN compares false
+  } else if (config.refinements.appearance_pairs && v.loose_distance >= eps) {  // R4; NaN compares false
     v.kept = false, v.why = Why::kGeometry;
   } else {
     v.kept = true, v.why = Why::kUnjudged;  // R6

@@ -1,37 +1,46 @@
 // Where the code departs from the paper's Algorithm 1 (algorithm1.h), in the order
 // the steps apply. Each was added because a measurement showed the paper's rule
-// failing; docs/algorithm1.md gives each one's reason and measured effect, and the
-// keys (config section `dynamic` unless named) that switch or tune it.
+// failing; docs/algorithm1.md gives each one's reason and measured effect. The
+// switch of a step is config `dynamic.refinements.<name>` (DynamicConfig); its sizes
+// are named constants, given here with the file that holds them.
 //
 // In JudgePairs (this file):
 //   R1 undistorted pairs      F, eq. (4) and the RGB-D check on undistorted pixels;
-//                             LK and depth lookups on the raw ones (undistort_pairs;
-//                             TrackPairs)
+//                             LK and depth lookups on the raw ones (switch
+//                             undistort_pairs; TrackPairs, undistort_table.h)
 //   R2 box depth band         a keypoint well behind its box's object is the
-//                             background the box frames: w = 1 (box_depth_band)
-//   R3 what F is fitted on    pairs outside fresh dynamic boxes (the authors'
-//                             release) and outside cells where the previous frames
-//                             rejected most keypoints (prior_cell, prior_memory)
+//                             background the box frames: w = 1 (switch
+//                             box_depth_band; kBoxDepthBand, refinements.cpp)
+//   R3 what F is fitted on    (a) pairs outside fresh dynamic boxes (the authors'
+//                             release; kMinStaticPairs, algorithm1.cpp), (b) outside
+//                             cells where the previous frames rejected most
+//                             keypoints (switch prior_cells; kPriorCell, kPriorMemory,
+//                             system/dynamic_stage.cpp)
 //   R4 appearance pairs       a keypoint whose flow converged but whose patches
 //                             differ is rejected outside the boxes when beyond eps_std
-//                             (judge_appearance_pairs)
+//                             (switch appearance_pairs)
 //   R5 RGB-D check            motion along the epipolar line, eq. (4)'s blind spot,
 //                             from depth and a PnP motion; a point it confirms static
-//                             is judged at w = 1 (depth_check and its keys,
-//                             confirm_static; depth_check.h, motion.h)
+//                             is judged at w = 1 (switch depth_check; the tolerances,
+//                             kDepthMaxShare and kConfirmStatic in depth_check.h, the
+//                             PnP in motion.h / motion.cpp)
 //   R6 keypoints without d    no pair or no F: rejected in a dynamic box (sg),
-//                             kept elsewhere
+//                             kept elsewhere (always on)
 //   R7 fallback               too few kept: eps_std relaxed, then the most
-//                             static-looking restored (min_kept_ratio, relax_*)
+//                             static-looking restored (switch fallback; kMinKeptRatio,
+//                             kRelaxFactor, kRelaxSteps, algorithm1.h)
 // In the dynamic stage (system/dynamic_stage.h), around JudgePairs:
-//   R8 box area limit         a box over most of the image takes no part (max_box_area)
+//   R8 box area limit         a box over most of the image takes no part (switch
+//                             box_area_limit; kMaxBoxArea, system/dynamic_stage.cpp)
 //   R9 detector stride        between detector frames the last boxes follow the flow
 //                             (detector.stride)
 //   R10 box carry             a mover's box the detector misses is carried a few
 //                             frames; carried boxes weigh keypoints but do not take
-//                             pairs out of the fits (carry_*; box_carry.h)
+//                             pairs out of the fits (switch box_carry; kCarryFrames,
+//                             kCarryIou, kCarryMinMotion, system/dynamic_stage.cpp;
+//                             box_carry.h)
 //   R11 first frame           judged by its boxes alone, then again with the second
-//                             frame's flow (first_frame_rejudge)
+//                             frame's flow (switch first_frame_rejudge)
 // In tracking (tracking/): trusted map points hold the pose against fresh movers
 // (tracking.trust_*), and a rolling shutter is corrected (camera.readout).
 // Thread safety: free functions on const inputs.
@@ -44,6 +53,7 @@
 namespace sgslam::dynamic {
 
 // R2 and R10: w per keypoint (Algorithm 1 line 6), and the w the fits of R3 use.
+// R2 (depth given, sg, config.refinements.box_depth_band): kBoxDepthBand.
 struct KeypointWeighting {
   std::vector<double> w;
   std::vector<double> w_fresh;  // without the carried boxes (R10); empty when the frame has none
@@ -58,7 +68,7 @@ KeypointWeighting WeighKeypoints(Mode mode, const std::vector<cv::KeyPoint>& key
 struct DynamicPrior {
   int cell = 0;  // px
   cv::Mat dynamic;  // CV_8U, one per cell: frames it stays dynamic (most of its keypoints rejected, or
-                    // their predecessors within prior_memory frames); 0 = static
+                    // their predecessors within `memory` frames, MakeDynamicPrior); 0 = static
   bool Dynamic(cv::Point2f p) const { return Memory(p) > 0; }
   int Memory(cv::Point2f p) const;  // frames the cell at p stays dynamic; 0: static or no prior
 };
@@ -77,18 +87,19 @@ std::vector<bool> PairsForTheFit(Mode mode, const PairSet& pairs, const std::vec
 // R4: eq. (4) for the pairs line 2 dropped for their appearance alone.
 void MeasureAppearancePairs(const PairSet& pairs, const Eigen::Matrix3d& F, std::vector<KeypointVerdict>& verdicts);
 
-// R5: the RGB-D check with the PnP motion of the pairs in `fit` (into r.motion):
-// moved[i] where it flags pair i, confirmed[i] where (sg) it passes well within
-// both tolerances. A check that flags more than config.depth_max_share of what it
-// tested is ignored (r.depth_ignored).
+// R5 (config.refinements.depth_check; depth null: off): the RGB-D check with the
+// PnP motion of the pairs in `fit` (into r.motion): moved[i] where it flags pair i,
+// confirmed[i] where (sg) it passes within params.confirm_static of both
+// tolerances. A check that flags more than params.max_share of what it tested is
+// ignored (r.depth_ignored).
 struct DepthEvidence {
   std::vector<bool> moved, confirmed;
 };
 DepthEvidence CheckPairDepths(Mode mode, const PairSet& pairs, const std::vector<bool>& valid,
                               const std::vector<bool>& fit, const DepthCheckInput* depth, const DynamicConfig& config,
-                              RejectionResult& r);
+                              const DepthCheckParams& params, RejectionResult& r);
 
-// R4 and R6: the verdict on a keypoint without d.
+// R4 (config.refinements.appearance_pairs) and R6: the verdict on a keypoint without d.
 void JudgeWithoutDistance(Mode mode, double eps, const DynamicConfig& config, KeypointVerdict& v);
 
 // R7: restores the `missing` rejected keypoints that look most static: finite

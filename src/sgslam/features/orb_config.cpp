@@ -9,7 +9,6 @@ void OrbConfig::Validate(ConfigChecker& c) const {
   c.InRange("fast_threshold", fast_threshold, 1, 254);
   c.InRange("fast_min_threshold", fast_min_threshold, 1, 254);
   c.Check(fast_min_threshold <= fast_threshold, "fast_min_threshold", fast_min_threshold, "must be <= fast_threshold");
-  c.InRange("cell_size", cell_size, 10, 200);
   c.InRange("threads", threads, 0, 2);
 }
 

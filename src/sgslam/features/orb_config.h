@@ -11,7 +11,6 @@ struct OrbConfig {
   int levels = 8;              // pyramid levels
   int fast_threshold = 20;     // intensity, FAST threshold tried first in each cell
   int fast_min_threshold = 7;  // intensity, fallback for cells where the first finds nothing
-  int cell_size = 35;          // px, FAST is run per cell of this size
   // Threads of the extraction (levels split between them, same output). 0: 2 when
   // parallel, no detector thread runs and the machine has more than two cores,
   // else 1: on two cores local mapping or the detector (paper Fig. 1) has the
@@ -25,7 +24,6 @@ struct OrbConfig {
     v("levels", levels, "pyramid levels");
     v("fast_threshold", fast_threshold, "intensity, FAST threshold");
     v("fast_min_threshold", fast_min_threshold, "intensity, FAST fallback threshold");
-    v("cell_size", cell_size, "px, FAST cell size");
     v("threads", threads, "extraction threads, 1 or 2; 0: 2 when parallel without a detector on more than 2 cores");
   }
   void Validate(ConfigChecker& c) const;

@@ -95,7 +95,9 @@ void OrbExtractor::Extract(const cv::Mat& gray, std::vector<cv::KeyPoint>& keypo
 void OrbExtractor::ExtractLevel(int level, int worker, std::vector<cv::KeyPoint>& keypoints,
                                 cv::Mat& descriptors) const {
   const cv::Mat& image = pyramid_[static_cast<size_t>(level)];
-  const FastCellParams fast{config_.cell_size, config_.fast_threshold, config_.fast_min_threshold};
+  FastCellParams fast;  // cells of 35 px (ORB-SLAM2)
+  fast.threshold = config_.fast_threshold;
+  fast.min_threshold = config_.fast_min_threshold;
   const std::vector<cv::KeyPoint> candidates = DetectFastInCells(image, fast);
   const cv::Rect region = DetectionRegion(image.size());
   keypoints = DistributeQuadtree(candidates, cv::Rect2f(region), features_per_level_[static_cast<size_t>(level)]);

@@ -14,6 +14,17 @@
 
 namespace sgslam {
 
+namespace {
+
+constexpr int kLocalBaFirstIterations = 5;    // local BA with a robust kernel (ORB-SLAM2)
+constexpr int kLocalBaSecondIterations = 10;  // local BA after removing outliers (ORB-SLAM2)
+// Free keyframes of local BA: the new one and its best covisibles. The Schur
+// complement grows with their square, and in a small scene every keyframe is
+// covisible with every other.
+constexpr std::size_t kMaxLocalKeyFrames = 25;
+
+}  // namespace
+
 bool LocalMapper::LocalBundleAdjustment(const std::shared_ptr<KeyFrame>& kf,
                                         const std::function<bool()>& interrupted, MappingStats& stats) {
   std::vector<std::shared_ptr<KeyFrame>> free;
@@ -21,12 +32,11 @@ bool LocalMapper::LocalBundleAdjustment(const std::shared_ptr<KeyFrame>& kf,
     std::shared_lock lock(map_.mutex());
     if (map_.keyframes().size() <= 2) return true;
     free.push_back(kf);
-    const auto max_free = static_cast<std::size_t>(config_.ba_max_local_keyframes);
-    for (const auto& k : kf->Covisibles(max_free - 1)) free.push_back(k);
+    for (const auto& k : kf->Covisibles(kMaxLocalKeyFrames - 1)) free.push_back(k);
   }
   optim::BaOptions options;
-  options.first_iterations = config_.ba_first_iterations;
-  options.second_iterations = config_.ba_second_iterations;
+  options.first_iterations = kLocalBaFirstIterations;
+  options.second_iterations = kLocalBaSecondIterations;
   return AdjustKeyFrames(free, options, interrupted, stats);
 }
 

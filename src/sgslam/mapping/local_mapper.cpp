@@ -9,6 +9,15 @@
 
 namespace sgslam {
 
+namespace {
+
+constexpr int kFusionNeighbours = 10;  // covisible keyframes (and theirs) searched for duplicates (ORB-SLAM2)
+// A keyframe is culled when this share of its points is seen by three other
+// keyframes (ORB-SLAM2).
+constexpr double kRedundantRatio = 0.9;
+
+}  // namespace
+
 LocalMapper::LocalMapper(const MappingConfig& config, double close_depth, Map& map,
                          std::shared_ptr<KeyFrameDatabase> places)
     : config_(config), map_(map), places_(std::move(places)), th_depth_(close_depth) {}
@@ -89,7 +98,7 @@ int LocalMapper::CullRecentPoints(const std::shared_ptr<KeyFrame>& kf) {
 
 int LocalMapper::SearchInNeighbors(const std::shared_ptr<KeyFrame>& kf) {
   std::unique_lock lock(map_.mutex());
-  const int n = config_.fusion_neighbours;
+  const int n = kFusionNeighbours;
   std::vector<std::shared_ptr<KeyFrame>> targets;
   std::set<std::uint64_t> seen = {kf->id};
   for (const auto& k : kf->Covisibles(static_cast<std::size_t>(n))) {
@@ -147,7 +156,7 @@ int LocalMapper::CullKeyFrames(const std::shared_ptr<KeyFrame>& kf) {
       }
       if (others >= 3) ++redundant;
     }
-    if (points > 0 && redundant > config_.redundant_ratio * points) {
+    if (points > 0 && redundant > kRedundantRatio * points) {
       k->SetBad(map_);  // refused for a keyframe that closes a loop
       if (!k->bad()) continue;
       if (places_) places_->Erase(*k);

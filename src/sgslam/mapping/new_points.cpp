@@ -14,6 +14,8 @@ namespace sgslam {
 
 namespace {
 
+constexpr std::size_t kTriangulationNeighbours = 10;  // covisible keyframes searched for new points (ORB-SLAM2)
+
 struct Candidate {
   std::shared_ptr<KeyFrame> kf2;
   std::size_t i1, i2;
@@ -46,7 +48,7 @@ int LocalMapper::CreateNewMapPoints(const std::shared_ptr<KeyFrame>& kf) {
     const SE3 T_1w = kf->T_c_w();
     const Eigen::Matrix3d R_w1 = kf->T_w_c().rotation();
     const double ratio_factor = 1.5 * f1.scale->factor;
-    for (const auto& kf2 : kf->Covisibles(static_cast<std::size_t>(config_.triangulation_neighbours))) {
+    for (const auto& kf2 : kf->Covisibles(kTriangulationNeighbours)) {
       if ((kf2->center() - kf->center()).norm() < baseline) continue;  // depth beats this parallax
       const Features& f2 = *kf2->features;
       const SE3 T_2w = kf2->T_c_w();

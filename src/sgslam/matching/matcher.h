@@ -22,7 +22,7 @@ constexpr int kThHigh = 100;  // accept a match up to this distance
 constexpr int kThLow = 50;    // ... where a stricter test is needed
 
 // Rejected keypoints (Frame::rejected) are matched by the two projection searches
-// only when rejected_distance > 0 (tracking.rejected_match_distance), in a second
+// only when rejected_distance > 0 (tracking.refinements.rejected_matches), in a second
 // pass: to the trusted map points (MapPoint::track, tracking thread) that no kept
 // keypoint matched, within that descriptor distance.
 

@@ -1,7 +1,8 @@
 // The dynamic-object boxes of the frames around a keyframe, moved into its image.
-// A CPU detector misses a person in some frames and finds it in the next; the
-// frames within `box_window` of a keyframe lend it their boxes for the static-map
-// mask (paper Sec. III-E leaves dynamic objects out of the cloud and the OctoMap).
+// A CPU detector misses a person in some frames and finds it in the next; with
+// semantic.filters.box_window the kBoxWindow frames on each side of a keyframe
+// (semantic_mapper.cpp) lend it their boxes for the static-map mask (paper
+// Sec. III-E leaves dynamic objects out of the cloud and the OctoMap).
 // Tracking is untouched: it uses its own frame's boxes only (Algorithm 1).
 //
 // A box is carried to the keyframe as the plane at its median depth: its corners

@@ -91,7 +91,7 @@ std::vector<ColoredPoint> BackProject(const cv::Mat& bgr, const cv::Mat& depth_r
   const int channels = colour ? bgr.channels() : 0;
   const double inv_factor = 1.0 / depth_factor;
   out.reserve(static_cast<std::size_t>(depth_raw.total() / static_cast<std::size_t>(stride * stride)));
-  const int edge = config.cloud_edge_radius;
+  const int edge = config.filters.depth_edges ? kDepthEdgeRadius : 0;
   for (int v = 0; v < depth_raw.rows; v += stride) {
     const std::uint16_t* d = depth_raw.ptr<std::uint16_t>(v);
     const std::uint8_t* m = mask.empty() ? nullptr : mask.ptr<std::uint8_t>(v);

@@ -14,6 +14,12 @@ namespace sgslam {
 
 class Camera;
 
+// px; with semantic.filters.depth_edges, pixels within this Chebyshev distance of a
+// depth step (cloud.cpp: 0.05 m + 0.02 / m * z^2) stay out of the cloud and the
+// OctoMap: at a mover's outline mask and depth disagree by a pixel or two, and the
+// depth there mixes two surfaces (docs/results-archive.md, "Three export filters").
+inline constexpr int kDepthEdgeRadius = 2;
+
 struct ColoredPoint {
   Eigen::Vector3f p;  // m
   Rgb rgb{0, 0, 0};
@@ -37,6 +43,7 @@ class PixelRays {
 
 // Every `stride`-th pixel with a depth in [depth_min, depth_max] and mask == 0, in
 // the camera frame, with its colour (bgr may be 1 or 3 channels); not downsampled.
+// With config.filters.depth_edges, not the pixels within kDepthEdgeRadius of a depth step.
 std::vector<ColoredPoint> BackProject(const cv::Mat& bgr, const cv::Mat& depth_raw, double depth_factor,
                                       const cv::Mat& mask, const PixelRays& rays, int stride,
                                       const SemanticConfig& config);

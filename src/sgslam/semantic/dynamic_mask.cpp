@@ -31,7 +31,7 @@ int Find(std::vector<int>& parent, int i) {
 // rejected, and most of its keypoints, is masked whole.
 void MaskMovingSegments(const cv::Mat& depth_raw, double depth_factor, const std::vector<cv::KeyPoint>& keys,
                         const std::vector<std::uint8_t>& rejected, const std::vector<std::uint8_t>& unjudged,
-                        const SemanticConfig& config, cv::Mat& mask, cv::Mat* also) {
+                        const DynamicMaskOptions& options, cv::Mat& mask, cv::Mat* also) {
   const int step = kSegmentStep;
   const int gw = (depth_raw.cols + step - 1) / step, gh = (depth_raw.rows + step - 1) / step;
   std::vector<float> z(static_cast<std::size_t>(gw) * gh);
@@ -56,7 +56,7 @@ void MaskMovingSegments(const cv::Mat& depth_raw, double depth_factor, const std
   std::vector<int> area(z.size(), 0), votes(z.size(), 0), keys_in(z.size(), 0);
   for (std::size_t i = 0; i < z.size(); ++i)
     if (z[i] > 0) ++area[Find(parent, static_cast<int>(i))];
-  const bool skip_unjudged = config.motion_segment_skip_unjudged && unjudged.size() == keys.size();
+  const bool skip_unjudged = options.skip_unjudged && unjudged.size() == keys.size();
   for (std::size_t k = 0; k < keys.size(); ++k) {
     if (skip_unjudged && unjudged[k] != 0) continue;  // no test, no vote either way
     const int gx = cvRound(keys[k].pt.x / step), gy = cvRound(keys[k].pt.y / step);
@@ -89,12 +89,12 @@ void MaskMovingSegments(const cv::Mat& depth_raw, double depth_factor, const std
   }
 }
 
-// Around each rejected keypoint not masked yet, the pixels within motion_radius whose
-// depth lies within motion_depth_band of the keypoint's.
+// Around each rejected keypoint not masked yet, the pixels within options.motion_radius
+// whose depth lies within kMotionDepthBand of the keypoint's.
 void MaskAroundRejected(const cv::Mat& depth_raw, double depth_factor, const std::vector<cv::KeyPoint>& keys,
-                        const std::vector<std::uint8_t>& rejected, const SemanticConfig& config, cv::Mat& mask) {
+                        const std::vector<std::uint8_t>& rejected, const DynamicMaskOptions& options, cv::Mat& mask) {
   const cv::Rect image(0, 0, depth_raw.cols, depth_raw.rows);
-  const int radius = config.motion_radius;
+  const int radius = options.motion_radius;
   const double band_raw = kMotionDepthBand * depth_factor;
   for (std::size_t i = 0; i < keys.size(); ++i) {
     if (!rejected[i]) continue;
@@ -121,15 +121,15 @@ void MaskAroundRejected(const cv::Mat& depth_raw, double depth_factor, const std
 
 cv::Mat DynamicPixelMask(const cv::Mat& depth_raw, double depth_factor, const std::vector<Detection>& detections,
                          const ClassTable& classes, const std::vector<cv::KeyPoint>& keys,
-                         const std::vector<std::uint8_t>& rejected, const SemanticConfig& config,
+                         const std::vector<std::uint8_t>& rejected, const DynamicMaskOptions& options,
                          const std::vector<std::uint8_t>& unjudged, cv::Mat* surface) {
   cv::Mat mask = cv::Mat::zeros(depth_raw.size(), CV_8UC1);
   if (surface != nullptr) *surface = cv::Mat::zeros(depth_raw.size(), CV_8UC1);
   const cv::Rect image(0, 0, depth_raw.cols, depth_raw.rows);
   for (const Detection& d : detections) {
     if (!classes.is_dynamic(d.class_name)) continue;
-    const float mx = d.box.width * static_cast<float>(config.box_margin);
-    const float my = d.box.height * static_cast<float>(config.box_margin);
+    const float mx = d.box.width * static_cast<float>(options.box_margin);
+    const float my = d.box.height * static_cast<float>(options.box_margin);
     const cv::Rect grown(cv::Point(static_cast<int>(std::floor(d.box.x - mx)), static_cast<int>(std::floor(d.box.y - my))),
                          cv::Point(static_cast<int>(std::ceil(d.box.x + d.box.width + mx)),
                                    static_cast<int>(std::ceil(d.box.y + d.box.height + my))));
@@ -143,10 +143,10 @@ cv::Mat DynamicPixelMask(const cv::Mat& depth_raw, double depth_factor, const st
     }
   }
   if (rejected.size() != keys.size()) return mask;
-  if (config.motion_segments) MaskMovingSegments(depth_raw, depth_factor, keys, rejected, unjudged, config, mask, surface);
-  if (config.motion_radius <= 0) return mask;
-  MaskAroundRejected(depth_raw, depth_factor, keys, rejected, config, mask);
-  if (surface != nullptr) MaskAroundRejected(depth_raw, depth_factor, keys, rejected, config, *surface);
+  if (options.motion_segments) MaskMovingSegments(depth_raw, depth_factor, keys, rejected, unjudged, options, mask, surface);
+  if (options.motion_radius <= 0) return mask;
+  MaskAroundRejected(depth_raw, depth_factor, keys, rejected, options, mask);
+  if (surface != nullptr) MaskAroundRejected(depth_raw, depth_factor, keys, rejected, options, *surface);
   return mask;
 }
 

@@ -11,6 +11,13 @@ namespace sgslam {
 
 namespace {
 
+// Share of the detection box (centred) whose depths give the object's depth: the
+// box's border holds background and neighbours (Sec. III-E; the release's value).
+constexpr double kObjectBoxShrink = 0.6;
+// 3-D IoU above which an observation joins an object of its class (besides a
+// centre inside the other's box): low, views of one object from different sides
+// overlap little, and objects of one class rarely touch.
+constexpr double kObjectMergeIou = 0.1;
 // Depths further than this many MADs from an object's median are outliers.
 constexpr double kMadFactor = 3.0;
 // Association boxes are grown by this for the centre-inside test.
@@ -39,7 +46,7 @@ bool Inside(const Eigen::Vector3d& p, const Eigen::Vector3d& min, const Eigen::V
 // Floor and walls continue outside the box; fitted there, their points inside
 // the box are dropped (see background_planes.h).
 void RemoveBackgroundPlanes(const cv::Rect2f& b, const cv::Rect& full, const cv::Mat& depth_raw, double depth_factor,
-                            const PixelRays& rays, const SemanticConfig& config, double depth,
+                            const PixelRays& rays, const SemanticConfig& config, int max_planes, double depth,
                             std::vector<Eigen::Vector3f>& points) {
   const cv::Rect image(0, 0, depth_raw.cols, depth_raw.rows);
   const int mx = std::max(6, static_cast<int>(std::lround(b.width * kRing)));
@@ -60,7 +67,7 @@ void RemoveBackgroundPlanes(const cv::Rect2f& b, const cv::Rect& full, const cv:
     }
   }
   PlaneFitOptions options;
-  options.max_planes = config.object_background_planes;
+  options.max_planes = max_planes;
   options.tolerance =
       static_cast<float>(kPlaneTolerance + kPlaneToleranceQuadratic * depth * depth);
   for (const Plane& plane : FitPlanes(ring, options)) {
@@ -70,7 +77,7 @@ void RemoveBackgroundPlanes(const cv::Rect2f& b, const cv::Rect& full, const cv:
       if (!OnPlane(plane, p, options)) kept.push_back(p);
     const double removed = static_cast<double>(points.size() - kept.size());
     if (removed > kPlaneMaxShare * static_cast<double>(points.size())) continue;
-    if (static_cast<int>(kept.size()) < config.object_min_points) continue;
+    if (static_cast<int>(kept.size()) < kObjectMinPoints) continue;
     points.swap(kept);
   }
 }
@@ -167,9 +174,9 @@ std::vector<double> ObjectDepths(const std::vector<Detection>& detections, const
       if (j != i) others.push_back(detections[j].box);
     std::vector<cv::Point> pixels;
     std::vector<double> depths;
-    SampleDepths(depth_raw, depth_factor, PixelBox(detections[i].box, config.object_box_shrink, image),
+    SampleDepths(depth_raw, depth_factor, PixelBox(detections[i].box, kObjectBoxShrink, image),
                  kObjectMaxPoints, config, pixels, depths);
-    const std::vector<double> own = UncoveredDepths(pixels, depths, others, config.object_min_points);
+    const std::vector<double> own = UncoveredDepths(pixels, depths, others, kObjectMinPoints);
     if (!own.empty()) out[i] = Median(own);
   }
   return out;
@@ -177,14 +184,15 @@ std::vector<double> ObjectDepths(const std::vector<Detection>& detections, const
 
 std::optional<ObjectObservation> ObserveObject(const Detection& detection, const cv::Mat& depth_raw,
                                                double depth_factor, const PixelRays& rays,
-                                               const SemanticConfig& config, const std::vector<OtherBox>& others) {
+                                               const SemanticConfig& config, const std::vector<OtherBox>& others,
+                                               const ObserveObjectOptions& options) {
   if (depth_raw.empty() || depth_raw.type() != CV_16UC1 || depth_raw.size() != rays.size()) return std::nullopt;
   const cv::Rect image(0, 0, depth_raw.cols, depth_raw.rows);
   const cv::Rect2f& b = detection.box;
   const cv::Rect full = PixelBox(b, 1.0, image);
   // Sec. III-E: the box is first reduced (its border holds background and
   // neighbours) and the depth of the object is taken there...
-  const cv::Rect inner = PixelBox(b, config.object_box_shrink, image);
+  const cv::Rect inner = PixelBox(b, kObjectBoxShrink, image);
   if (inner.area() <= 0 || full.area() <= 0) return std::nullopt;
   std::vector<OtherBox> overlapping;  // with a known depth
   std::vector<cv::Rect2f> other_boxes;
@@ -197,18 +205,18 @@ std::optional<ObjectObservation> ObserveObject(const Detection& detection, const
   std::vector<cv::Point> inner_pixels;
   std::vector<double> inner_depths;
   SampleDepths(depth_raw, depth_factor, inner, kObjectMaxPoints, config, inner_pixels, inner_depths);
-  if (static_cast<int>(inner_depths.size()) < config.object_min_points) return std::nullopt;
+  if (static_cast<int>(inner_depths.size()) < kObjectMinPoints) return std::nullopt;
   // ... away from the other boxes where possible: a chair half behind a table
   // would take the table's depth.
-  const std::vector<double> own = UncoveredDepths(inner_pixels, inner_depths, other_boxes, config.object_min_points);
+  const std::vector<double> own = UncoveredDepths(inner_pixels, inner_depths, other_boxes, kObjectMinPoints);
   const double median = Median(own);
   const double mad = Mad(own, median);
   // ... then every depth of the original box is compared with it, and rejected
   // when too far (median / MAD: robust where the paper takes the mean), or
-  // further than a share of the box's width at that depth (see SemanticConfig).
+  // further than a share of the box's width at that depth (kObjectDepthBandWidth).
   const int row = full.y + full.height / 2;
   const double width_m = std::abs(rays.at(full.x + full.width - 1, row)[0] - rays.at(full.x, row)[0]) * median;
-  const double band = std::max(kMadFactor * mad, config.object_depth_band_width * width_m);
+  const double band = std::max(kMadFactor * mad, options.depth_band_width * width_m);
   std::vector<cv::Point> pixels;
   std::vector<double> depths;
   SampleDepths(depth_raw, depth_factor, full, 2 * kObjectMaxPoints, config, pixels, depths);
@@ -224,9 +232,11 @@ std::optional<ObjectObservation> ObserveObject(const Detection& detection, const
     const auto z = static_cast<float>(depths[i]);
     points.emplace_back(r[0] * z, r[1] * z, z);
   }
-  if (config.object_background_planes > 0) RemoveBackgroundPlanes(b, full, depth_raw, depth_factor, rays, config, median, points);
+  if (options.background_planes > 0) {
+    RemoveBackgroundPlanes(b, full, depth_raw, depth_factor, rays, config, options.background_planes, median, points);
+  }
   DropOutliers(kMadFactor, points);
-  if (static_cast<int>(points.size()) < config.object_min_points) return std::nullopt;
+  if (static_cast<int>(points.size()) < kObjectMinPoints) return std::nullopt;
   Thin(kObjectMaxPoints, points);
   ObjectObservation o;
   o.class_id = detection.class_id;
@@ -268,7 +278,7 @@ int ObjectDatabase::Add(ObjectObservation observation, const SE3& T_w_c) {
     const Eigen::Vector3d m = Eigen::Vector3d::Constant(kMergeMargin);
     const bool nested = Inside(centre, o.box.min - m, o.box.max + m) || Inside(o_centre, box.min - m, box.max + m);
     const double score = iou + (nested ? 1.0 : 0.0);
-    if ((iou > config_.object_merge_iou || nested) && score > best_score) {
+    if ((iou > kObjectMergeIou || nested) && score > best_score) {
       best = &o;
       best_score = score;
     }
@@ -351,7 +361,7 @@ std::vector<ObjectEstimate> ObjectDatabase::Estimate(const KeyFramePoseFn& pose_
     e.size = b.max - b.min;
     e.complete = Complete(o);
     // An object never seen whole needs one view more: its views are weaker evidence.
-    e.exported = e.observations >= config_.object_min_observations + (e.complete ? 0 : 1);
+    e.exported = e.observations >= kObjectMinObservations + (e.complete ? 0 : 1);
     out.push_back(e);
   }
   return out;

@@ -1,7 +1,8 @@
 // 3-D semantic objects from 2-D detections and depth (paper Sec. III-E): for every
-// detection of a static class in a keyframe, the box is shrunk towards its centre,
-// depths far from the median (in MADs, at least a share of the box's width) are
-// dropped, pixels where another box of the frame overlaps and whose depth is nearer
+// detection of a static class in a keyframe, the box is shrunk towards its centre
+// (kObjectBoxShrink), depths far from the median (in MADs, at least
+// kObjectDepthBandWidth of the box's width) are dropped, background planes fitted
+// around the box are removed inside it (kObjectBackgroundPlanes), pixels where another box of the frame overlaps and whose depth is nearer
 // that box's object go to it (occlusion: the paper does not say), 3-D outliers are
 // removed, and the samples are kept in the keyframe's camera frame. The database
 // merges an observation into an object of the same class whose box overlaps it (3-D
@@ -9,7 +10,7 @@
 // object. A box cut by the image edge is a partial view: it may start an object (a
 // sofa next to the camera may never be seen whole), but its samples shape the
 // object only until a whole view comes, and an object seen only cut is exported
-// with complete = false, from one view more than a whole one. Each object keeps
+// with complete = false, from one view more than a whole one (kObjectMinObservations). Each object keeps
 // its observations anchored to their keyframes: its centroid and size are
 // recomputed from them with the keyframes' current poses (robust: 1st-99th
 // percentile extents of the samples that the other views' boxes agree with, see
@@ -35,6 +36,30 @@ namespace sgslam {
 
 // Depth samples kept per object observation (each is anchored to its keyframe).
 inline constexpr int kObjectMaxPoints = 400;
+// Depth samples an observation needs (in its inner box, and left at the end): fewer
+// is a sliver of the object, too little for a median and a MAD.
+inline constexpr int kObjectMinPoints = 30;
+// Objects seen fewer times are not exported (one more when every view was cut by
+// the image border): one view is too little evidence against a false detection.
+inline constexpr int kObjectMinObservations = 2;
+// Share of the box's width (in metres at the object's median depth) within which a
+// depth belongs to the object even beyond 3 MADs of the median: a flat front face
+// has a MAD of a centimetre and would cut off whatever lies behind it (a pot under
+// its leaves, a chair's seat behind its back), and an object is about as deep as it
+// is wide (objects preset, seeds 1-6: centroids within 5 cm 16 -> 23 of 40;
+// docs/results-archive.md).
+inline constexpr double kObjectDepthBandWidth = 1.0;
+// Background planes fitted in a ring around a box and removed inside it (they sit
+// at the object's depth, so the depth band keeps them): floor and both walls of a
+// corner (with two the worst errors were 0.54 m and 0.90 m).
+inline constexpr int kObjectBackgroundPlanes = 3;
+
+// The segmentation's parameters: the pipeline passes the constants; tests turn a
+// step off to see what it does.
+struct ObserveObjectOptions {
+  double depth_band_width = kObjectDepthBandWidth;  // share of the box's width; 0: the MAD band alone
+  int background_planes = kObjectBackgroundPlanes;  // 0: none removed
+};
 
 class KeyFrame;
 
@@ -61,7 +86,7 @@ struct OtherBox {
 };
 
 // The object depth of every detection of a frame: the median depth over the inner
-// `object_box_shrink` of its box, leaving out pixels that other boxes cover (the
+// kObjectBoxShrink of its box, leaving out pixels that other boxes cover (the
 // occluder would otherwise set the depth of a half-hidden object); over the whole
 // inner box when the others cover nearly all of it. 0 where no depth is valid.
 std::vector<double> ObjectDepths(const std::vector<Detection>& detections, const cv::Mat& depth_raw,
@@ -71,7 +96,8 @@ std::vector<double> ObjectDepths(const std::vector<Detection>& detections, const
 // `others`: the frame's other boxes (see OtherBox), none by default.
 std::optional<ObjectObservation> ObserveObject(const Detection& detection, const cv::Mat& depth_raw,
                                                double depth_factor, const PixelRays& rays,
-                                               const SemanticConfig& config, const std::vector<OtherBox>& others = {});
+                                               const SemanticConfig& config, const std::vector<OtherBox>& others = {},
+                                               const ObserveObjectOptions& options = {});
 
 struct ObjectEstimate {
   int id = 0;
@@ -81,7 +107,7 @@ struct ObjectEstimate {
   int observations = 0;
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // m, centre of the box, output frame
   Eigen::Vector3d size = Eigen::Vector3d::Zero();      // m, axis-aligned extent in the output frame
-  bool exported = false;  // seen at least object_min_observations times (one more when not complete)
+  bool exported = false;  // seen at least kObjectMinObservations times (one more when not complete)
   bool complete = true;   // seen whole at least once; false: every view was cut by the image border,
                           // so centroid and size cover only the part in view
 };

@@ -14,6 +14,14 @@ namespace sgslam {
 
 namespace {
 
+// The sensor model of the authors' release: a hit and a miss (a free ray) add the
+// log-odds of these probabilities, and the clamping bounds keep a voxel's belief
+// from growing so strong that new evidence (a person who walked away) cannot turn it.
+constexpr double kOctoMapProbHit = 0.7;     // probability
+constexpr double kOctoMapProbMiss = 0.4;    // probability
+constexpr double kOctoMapClampMin = 0.12;   // probability
+constexpr double kOctoMapClampMax = 0.97;   // probability
+
 // Debian's liboctomap is built with debug output on: writing a tree prints "Writing
 // N nodes to output stream..." on stderr. Writing happens after every thread has
 // stopped, so muting file descriptor 2 for its duration hides nothing else.
@@ -44,10 +52,10 @@ class MutedStderr {
 
 OctoMapBuilder::OctoMapBuilder(const SemanticConfig& config)
     : config_(config), tree_(std::make_unique<octomap::ColorOcTree>(config.octomap_resolution)) {
-  tree_->setProbHit(config.octomap_hit);
-  tree_->setProbMiss(config.octomap_miss);
-  tree_->setClampingThresMin(config.octomap_clamp_min);
-  tree_->setClampingThresMax(config.octomap_clamp_max);
+  tree_->setProbHit(kOctoMapProbHit);
+  tree_->setProbMiss(kOctoMapProbMiss);
+  tree_->setClampingThresMin(kOctoMapClampMin);
+  tree_->setClampingThresMax(kOctoMapClampMax);
 }
 
 OctoMapBuilder::~OctoMapBuilder() = default;

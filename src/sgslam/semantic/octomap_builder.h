@@ -2,7 +2,8 @@
 // ColorOcTree updated incrementally per keyframe by inserting its static depth
 // pixels as rays from the camera centre (free space along each ray is cleared, so
 // a place a person walked through becomes free again), with the release's sensor
-// model (hit 0.7, miss 0.4, clamping 0.12 / 0.97) at 0.03 m.
+// model (octomap_builder.cpp: kOctoMapProbHit 0.7, kOctoMapProbMiss 0.4, clamping
+// kOctoMapClampMin / kOctoMapClampMax 0.12 / 0.97) at semantic.octomap_resolution.
 //
 // Threading: not thread-safe; owned by the semantic mapping thread, read after it stopped.
 #pragma once

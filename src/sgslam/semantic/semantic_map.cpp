@@ -22,8 +22,21 @@ namespace {
 // A box carried from the box window (box_window.h) masks only pixels this close to
 // its depth.
 constexpr double kBoxWindowBand = 0.4;  // m
+// px; pixel step when back-projecting a keyframe's depth into its cloud: about 1 cm
+// at 2 m, under the 2 cm cloud voxel, and a ninth of the pixels, so that a keyframe
+// costs milliseconds on one core.
+constexpr int kCloudStride = 3;
+// m; depth margin of the see-through test (filters.see_through) and of "at the
+// same place" in the seen-moving test, plus kConsistencyToleranceQuadratic * z^2.
+constexpr double kConsistencyTolerance = 0.05;
 // The see-through test's margin grows with depth^2 (Kinect noise).
 constexpr double kConsistencyToleranceQuadratic = 0.01;  // 1/m
+// Keyframes that must see through a point to drop it (filters.see_through): one is
+// enough (with 2, 1.18 % of the cloud was on movers on dyn_dev; with 1, 0.91 %).
+constexpr int kConsistencyMinVotes = 1;
+// Detections below this score give no object: weak detections are often the wrong
+// class, and an object needs consistent views anyway.
+constexpr double kObjectMinScore = 0.3;
 // Keyframe depth is kept min-pooled by this factor for the export's multi-view tests.
 constexpr int kDepthPool = 4;  // px
 // Free-space rays are cast from every this-many-th pixel (hits: every cloud point).
@@ -66,8 +79,10 @@ std::optional<cv::Point> PooledPixel(cv::Size pooled, const Camera& camera, cons
 }  // namespace
 
 SemanticMap::SemanticMap(const SemanticConfig& config, std::shared_ptr<const Camera> camera, ClassTable classes,
-                         const Map& map, std::unique_ptr<Detector> keyframe_detector)
+                         const Map& map, std::unique_ptr<Detector> keyframe_detector,
+                         const SemanticMapOptions& options)
     : config_(config),
+      options_(options),
       map_(map),
       camera_(std::move(camera)),
       rays_(*camera_),
@@ -92,7 +107,7 @@ SemanticMap::StageMs SemanticMap::Add(const SemanticInput& input, const std::vec
   // surface: where the movers themselves were, for the seen-moving filter (a whole
   // box would mark the background behind a person as seen moving).
   cv::Mat surface;
-  const cv::Mat mask = DynamicMask(input, movers, carried, config_.seen_moving_ratio > 0 ? &surface : nullptr);
+  const cv::Mat mask = DynamicMask(input, movers, carried, config_.filters.seen_moving ? &surface : nullptr);
   ms.mask = stage.ElapsedMs();
   stage.Restart();
   KeyFrameCloud cloud = MakeCloud(input, mask, surface);
@@ -205,13 +220,16 @@ cv::Mat SemanticMap::DynamicMask(const SemanticInput& input, const std::vector<D
   const SemanticConfig& c = config_;
   const Features& f = *input.keyframe->features;
   const double depth_factor = camera_->config().depth_factor;
-  cv::Mat mask = DynamicPixelMask(input.depth, depth_factor, movers, classes_, f.keys, f.dynamic, c, f.unjudged, surface);
+  DynamicMaskOptions options;  // the constants of dynamic_mask.h
+  options.motion_segments = c.filters.motion_segments;
+  cv::Mat mask =
+      DynamicPixelMask(input.depth, depth_factor, movers, classes_, f.keys, f.dynamic, options, f.unjudged, surface);
   MaskCarriedBoxes(carried, input.depth, depth_factor, kBoxWindowBand, mask);
   if (surface) MaskCarriedBoxes(carried, input.depth, depth_factor, kSeenMovingBand, *surface);
-  if (c.cloud_border > 0) {
+  if (c.filters.image_border) {
     // No keypoint (ORB's edge margin) and so no motion evidence reaches the border,
     // and the detector misses the people it cuts: it stays out of the map.
-    const int b = std::min({c.cloud_border, mask.cols / 2, mask.rows / 2});
+    const int b = std::min({kImageBorder, mask.cols / 2, mask.rows / 2});
     mask.rowRange(0, b).setTo(255), mask.rowRange(mask.rows - b, mask.rows).setTo(255);
     mask.colRange(0, b).setTo(255), mask.colRange(mask.cols - b, mask.cols).setTo(255);
   }
@@ -222,12 +240,12 @@ SemanticMap::KeyFrameCloud SemanticMap::MakeCloud(const SemanticInput& input, co
                                                         const cv::Mat& surface) const {
   const SemanticConfig& c = config_;
   const double depth_factor = camera_->config().depth_factor;
-  const bool seen_moving = c.seen_moving_ratio > 0;
+  const bool seen_moving = c.filters.seen_moving;
   KeyFrameCloud cloud;
   cloud.keyframe = input.keyframe;
   cloud.points_c =
-      VoxelDownsample(BackProject(input.bgr, input.depth, depth_factor, mask, rays_, c.cloud_stride, c), c.cloud_voxel);
-  if (c.consistency_filter || seen_moving) cloud.depth_pooled = MinPooledDepth(input.depth, depth_factor, kDepthPool);
+      VoxelDownsample(BackProject(input.bgr, input.depth, depth_factor, mask, rays_, kCloudStride, c), c.cloud_voxel);
+  if (c.filters.see_through || seen_moving) cloud.depth_pooled = MinPooledDepth(input.depth, depth_factor, kDepthPool);
   if (seen_moving) cloud.moving_pooled = MinPooledDepth(input.depth, depth_factor, kDepthPool, surface);
   return cloud;
 }
@@ -238,7 +256,7 @@ void SemanticMap::ObserveObjects(const SemanticInput& input, const SE3& T_w_c) {
   const double depth_factor = camera_->config().depth_factor;
   // Sec. III-E: every detection except those of dynamic objects (people, dogs).
   const auto gives_object = [&](const Detection& d) {
-    return !classes_.is_dynamic(d.class_name) && d.score >= c.object_min_score;
+    return !classes_.is_dynamic(d.class_name) && d.score >= kObjectMinScore;
   };
   // Every box of the frame, people's too, may hide part of another (computed only
   // when some detection gives an object: most keyframes of a dynamic scene have none).
@@ -267,8 +285,8 @@ void SemanticMap::ObserveObjects(const SemanticInput& input, const SE3& T_w_c) {
 void SemanticMap::FilterAndRebuild() {
   if (filtered_) return;
   filtered_ = true;
-  const SemanticConfig& c = config_;
-  if (!c.consistency_filter && c.min_view_support <= 1 && c.seen_moving_ratio <= 0) {
+  const SemanticFilters& f = config_.filters;
+  if (!f.see_through && !f.view_support && !f.seen_moving) {
     octomap_.Finalize();
     return;
   }
@@ -277,8 +295,8 @@ void SemanticMap::FilterAndRebuild() {
     T_c_w[k] = clouds_[k].keyframe->PlacedT_c_w();
     T_w_c[k] = T_c_w[k].Inverse();
   }
-  if (c.consistency_filter || c.seen_moving_ratio > 0) DropPointsOtherViewsContradict(T_c_w, T_w_c);
-  if (c.min_view_support > 1) DropPointsSeenOnce(T_w_c);
+  if (f.see_through || f.seen_moving) DropPointsOtherViewsContradict(T_c_w, T_w_c);
+  if (f.view_support) DropPointsSeenOnce(T_w_c);
   // The live OctoMap saw the moving points too, with the poses of the time: build
   // it again from the points that passed and the final poses.
   octomap_.Clear();
@@ -288,7 +306,8 @@ void SemanticMap::FilterAndRebuild() {
 
 void SemanticMap::DropPointsOtherViewsContradict(const std::vector<SE3>& T_c_w, const std::vector<SE3>& T_w_c) {
   const SemanticConfig& c = config_;
-  const bool seen_moving = c.seen_moving_ratio > 0;
+  const bool see_through = c.filters.see_through;
+  const bool seen_moving = c.filters.seen_moving;
   for (std::size_t i = 0; i < clouds_.size(); ++i) {
     std::vector<ColoredPoint> kept;
     kept.reserve(clouds_[i].points_c.size());
@@ -302,9 +321,9 @@ void SemanticMap::DropPointsOtherViewsContradict(const std::vector<SE3>& T_c_w, 
         const std::optional<cv::Point> px = PooledPixel(clouds_[j].depth_pooled.size(), *camera_, q, kDepthPool);
         if (!px) continue;
         const float z = clouds_[j].depth_pooled.at<float>(*px);
-        const double tolerance = c.consistency_tolerance + kConsistencyToleranceQuadratic * q.z() * q.z();
-        if (c.consistency_filter && z > 0 && z > q.z() + tolerance) {
-          if (++through >= c.consistency_min_votes) break;  // keyframe j sees what lies behind the point
+        const double tolerance = kConsistencyTolerance + kConsistencyToleranceQuadratic * q.z() * q.z();
+        if (see_through && z > 0 && z > q.z() + tolerance) {
+          if (++through >= kConsistencyMinVotes) break;  // keyframe j sees what lies behind the point
         }
         // A cloud made without the seen-moving filter (a loaded map) has no movers' depth.
         if (!seen_moving || clouds_[j].moving_pooled.size() != clouds_[j].depth_pooled.size()) continue;
@@ -315,9 +334,9 @@ void SemanticMap::DropPointsOtherViewsContradict(const std::vector<SE3>& T_c_w, 
           ++still;  // keyframe j saw the surface there, unmasked
         }
       }
-      if (c.consistency_filter && through >= c.consistency_min_votes) {
+      if (see_through && through >= kConsistencyMinVotes) {
         ++inconsistent_;
-      } else if (seen_moving && moving > 0 && moving >= c.seen_moving_ratio * still) {
+      } else if (seen_moving && moving > 0 && moving >= options_.seen_moving_ratio * still) {
         ++seen_moving_;
       } else {
         kept.push_back(p);
@@ -345,7 +364,7 @@ void SemanticMap::DropPointsSeenOnce(const std::vector<SE3>& T_w_c) {
   }
   // A point stays when enough keyframes put points into its voxel or the 26 around
   // it (pose and depth noise spread one surface over neighbouring voxels).
-  const auto need = static_cast<std::size_t>(config_.min_view_support);
+  const auto need = static_cast<std::size_t>(kMinViewSupport);
   std::vector<std::uint32_t> seen;
   for (std::size_t i = 0; i < clouds_.size(); ++i) {
     std::vector<ColoredPoint> kept;
@@ -384,7 +403,7 @@ std::vector<SemanticMap::KeyFramePoints> SemanticMap::KeyFrameClouds() const {
 
 bool SemanticMap::Exported(const Eigen::Vector3d& p_w) const {
   // A voxel that later views saw through held something that moved away.
-  return !(config_.free_space_filter && octomap_.IsFree(p_w));
+  return !(config_.filters.free_space && octomap_.IsFree(p_w));
 }
 
 std::vector<ObjectEstimate> SemanticMap::ExportObjects(const SE3& T_out_w) const {

@@ -6,8 +6,9 @@
 //    that export composes it with the keyframe's final pose;
 //  - the OctoMap (octomap_builder.h), updated incrementally per keyframe;
 //  - the database of 3-D semantic objects (objects.h).
-// The export filters (export_filters in docs/configuration.md: see-through,
-// seen-moving, seen-once, free space) run once, on the first export.
+// The masks leave the image border (kImageBorder) and the movers out; the export
+// filters (semantic.filters: see_through, seen_moving, view_support, free_space) run
+// once, on the first export.
 //
 // Single-threaded: one thread at a time (semantic_mapper.h runs it on the semantic
 // thread, or inline in sequential mode). It reads keyframe poses under the Map's
@@ -34,6 +35,31 @@ namespace sgslam {
 class Camera;
 class KeyFrame;
 class Map;
+
+// px; with semantic.filters.image_border, the strip this wide at the image border
+// is masked: ORB finds no keypoints there (no motion evidence) and the detector
+// misses the people it cuts; static surfaces there are seen from other keyframes
+// (dyn_dev: cloud on movers 0.40 % -> 0.14 %, 0.18 % at 24 px; OctoMap path cells
+// 39 -> 9; docs/results-archive.md, "Border strip and seen-moving filter").
+inline constexpr int kImageBorder = 32;
+// With semantic.filters.seen_moving, a point is dropped when other keyframes masked
+// a mover at its place at least once and at least this many times as often as
+// keyframes saw it there unmasked (its own counts): with the 32 px border, 0.14 % ->
+// 0.08 % of the cloud on movers on dyn_dev.
+inline constexpr double kSeenMovingRatio = 3.0;
+
+// With semantic.filters.view_support, a point stays only when this many keyframes
+// put points within one OctoMap voxel of it (or the 26 around): a mover crosses a
+// place in a keyframe or two, a static surface is seen again (dyn_dev: cloud on
+// movers 0.91 % -> 0.53 %, OctoMap path cells 6.0 % -> 0.73 %; 2: 0.65 % / 2.0 %;
+// 4: 0.46 % / 0.48 % with 10 % fewer points on the static fr1_rpy).
+inline constexpr int kMinViewSupport = 3;
+
+// The export filters' parameters that the tests vary; the pipeline passes the
+// constants.
+struct SemanticMapOptions {
+  double seen_moving_ratio = kSeenMovingRatio;  // see kSeenMovingRatio
+};
 
 struct SemanticInput {
   std::shared_ptr<KeyFrame> keyframe;
@@ -63,7 +89,8 @@ class SemanticMap {
   // (semantic.keyframe_model). camera: the keyframes'; classes: which detections
   // are movers; map: the keyframes' poses.
   SemanticMap(const SemanticConfig& config, std::shared_ptr<const Camera> camera, ClassTable classes,
-              const Map& map, std::unique_ptr<Detector> keyframe_detector = nullptr);
+              const Map& map, std::unique_ptr<Detector> keyframe_detector = nullptr,
+              const SemanticMapOptions& options = {});
 
   struct StageMs {  // what Add spent on each step
     double detect = 0, mask = 0, cloud = 0, octomap = 0, objects = 0;
@@ -131,18 +158,20 @@ class SemanticMap {
   };
   KeyFrameCloud MakeCloud(const SemanticInput& input, const cv::Mat& mask, const cv::Mat& surface) const;
   void ObserveObjects(const SemanticInput& input, const SE3& T_w_c);
-  // Drops the points other keyframes see through (consistency_filter) and those
-  // fewer than min_view_support keyframes saw (DropPointsSeenOnce), and rebuilds
-  // the OctoMap from the rest with the current poses; once, on first export.
+  // Drops the points other keyframes see through (filters.see_through) or masked as
+  // a mover (filters.seen_moving) and those fewer than kMinViewSupport keyframes saw
+  // (filters.view_support), and rebuilds the OctoMap from the rest with the current
+  // poses; once, on first export.
   void FilterAndRebuild();
   // One pass over the other keyframes' pooled depths: drops the points that at least
-  // consistency_min_votes of them see through (consistency_filter), then those they
-  // masked as a mover often enough (seen_moving_ratio).
+  // kConsistencyMinVotes of them see through (filters.see_through), then those they
+  // masked as a mover often enough (filters.seen_moving, options_.seen_moving_ratio).
   void DropPointsOtherViewsContradict(const std::vector<SE3>& T_c_w, const std::vector<SE3>& T_w_c);
-  // Drops the points whose voxel neighbourhood fewer than min_view_support keyframes saw.
+  // Drops the points whose voxel neighbourhood fewer than kMinViewSupport keyframes saw.
   void DropPointsSeenOnce(const std::vector<SE3>& T_w_c);
 
   const SemanticConfig config_;
+  const SemanticMapOptions options_;
   const Map& map_;
   std::shared_ptr<const Camera> camera_;
   PixelRays rays_;

@@ -3,21 +3,22 @@
 // has refined, each masked with the boxes of the frames around it (the box window),
 // and serves requests for its state while it runs.
 //
-// Threading: Submit() is called by one producer (local mapping, or the only thread
-// in sequential mode) and never blocks: when queue_size keyframes wait, the oldest
-// is dropped and counted. AddFrame() is called by tracking for every frame and
-// never blocks either; with box_window > 0 a keyframe waits (in the worker, or
-// in sequential mode in a pending list) until the box_window frames after it are
-// in, or Finish(). The worker takes Map::mutex() shared only to read poses,
-// never while holding its own mutex. Finish() drains the queue and joins; the
-// export functions are called after Finish(), under the caller's shared map lock.
-// The keyframe queue is a drop-oldest queue like common/bounded_queue.h's, but
-// kept under the mapper's own mutex: its front waits for the frames after it (the
-// box window), and a pending request is served first.
+// Threading: the map runs on a Stage (common/stage.h): inline on the thread that
+// hands it keyframes (--sequential), or on the thread `sg-semantic` behind a
+// drop-oldest queue of semantic.queue_size keyframes (the oldest is dropped and
+// counted; the thread at the lowest CPU priority with semantic.low_priority).
+// Submit() is called by one producer (local mapping) and AddFrame() by tracking for
+// every frame; neither blocks. With semantic.filters.box_window a keyframe waits in
+// a pending list until the kBoxWindow frames after it (semantic_mapper.cpp) are in,
+// or Finish(), and goes to the stage with the boxes carried into it, in order.
+// Requests (RequestOctoMap, RequestState, Restore's rebuild) wait in slots that
+// the stage serves before its next keyframe, so they need not wait for a queue of
+// keyframes. The map takes Map::mutex() shared only to read poses. Finish() hands
+// over the pending keyframes, drains the stage and serves what requests are left;
+// the export functions are called after Finish(), under the caller's shared map lock.
 #pragma once
 
 #include <atomic>
-#include <condition_variable>
 #include <deque>
 #include <filesystem>
 #include <functional>
@@ -25,11 +26,11 @@
 #include <utility>
 #include <mutex>
 #include <optional>
-#include <thread>
 #include <vector>
 
 #include <opencv2/core.hpp>
 
+#include "sgslam/common/stage.h"
 #include "sgslam/common/time.h"
 #include "sgslam/detection/detector.h"
 #include "sgslam/detection/detector_config.h"
@@ -112,40 +113,54 @@ class SemanticMapper {
   const Camera& camera() const { return map_.camera(); }
 
  private:
-  void Loop();
+  // What the stage works on: a keyframe with the boxes carried into it, or nothing
+  // (a wake-up to serve the requests).
+  struct Job {
+    std::optional<SemanticInput> keyframe;
+    std::vector<CarriedBox> carried;
+  };
+  void Work(Job job);  // on the stage
+  void ServeRequests();  // on the stage (or the only thread after Finish)
+  // Posts an empty job unless one is queued already (which serves the requests
+  // first): never pushes a keyframe out of a full queue.
+  void Wake();
+  // Under window_mutex_: hands the pending keyframes whose window is complete (all:
+  // every one) to the stage, in order.
+  void Release(bool all);
+  // Under window_mutex_: the boxes of the frames around the keyframe's, in its image.
+  std::vector<CarriedBox> CarriedBoxes(std::uint64_t keyframe_frame_id) const;
+  bool WindowComplete(std::uint64_t keyframe_frame_id) const;  // under window_mutex_
   // The map's Add, then publishing and the stats.
   void ProcessKeyFrame(const SemanticInput& input, const std::vector<CarriedBox>& carried);
-  // Under mutex_: the boxes of the frames around the keyframe's, in its image.
-  std::vector<CarriedBox> CarriedBoxes(std::uint64_t keyframe_frame_id) const;
-  bool WindowComplete(std::uint64_t keyframe_frame_id) const;  // under mutex_
-  void ProcessReady(bool all);                                 // sequential mode
-  void WriteLiveOctoMap(const std::filesystem::path& path);     // the worker (or the only thread)
+  void WriteLiveOctoMap(const std::filesystem::path& path);
 
   const SemanticConfig config_;
-  const bool sequential_;
   std::shared_ptr<const Camera> camera_;
   ClassTable classes_;
-  // The worker's until Finish() (then the exporting caller's); sequential: the only thread's.
+  // The stage's until Finish() (then the exporting caller's).
   SemanticMap map_;
 
   std::atomic<bool> publishing_{false};
   mutable std::mutex published_mutex_;  // guards published_; never held with mutex_ or the map's
   Published published_;
 
-  mutable std::mutex mutex_;  // guards queue_, frames_, last_frame_id_, stats_, stop_ and the requests
-  std::condition_variable wake_;
-  std::deque<SemanticInput> queue_;  // parallel: waiting for the worker; sequential: for their box window
-  std::deque<FrameBoxes> frames_;    // the last frames (a bounded history), by frame id
+  // Guards pending_, frames_ and last_frame_id_, and orders the hand-over; held
+  // while an inline stage works (which never takes it).
+  std::mutex window_mutex_;
+  std::deque<SemanticInput> pending_;  // waiting for their box window
+  std::deque<FrameBoxes> frames_;      // the last frames (a bounded history), by frame id
   std::optional<std::uint64_t> last_frame_id_;
+
+  mutable std::mutex mutex_;  // guards the requests, octomaps_written_, stats_ and stage_ms_
   std::optional<std::filesystem::path> octomap_request_;
   std::function<void(SemanticState)> state_request_;
   bool rebuild_pending_ = false;  // Restore
   std::size_t octomaps_written_ = 0;
   mutable SemanticStats stats_;
   std::vector<SemanticMap::StageMs> stage_ms_;
-  bool stop_ = false;
-  bool finished_ = false;
-  std::thread thread_;
+  std::atomic<bool> finished_{false};
+
+  Stage<Job> stage_;  // last: its thread ends before the members it uses go
 };
 
 }  // namespace sgslam

@@ -10,6 +10,29 @@
 
 namespace sgslam {
 
+namespace {
+
+// The sizes of the refinements the stage applies around Algorithm 1
+// (dynamic/refinements.h; switched by DynamicConfig::refinements).
+// R3 (b): px, cells of the previous image where most keypoints were rejected stay
+// out of the F and PnP fits; one dyn_dev run measured (docs/algorithm1.md R3).
+constexpr int kPriorCell = 20;
+// R3 (b): frames a rejected keypoint keeps its cell out while its flow-tracked
+// successors are kept: a slow mover can pass eq. (4) in one frame (5 of 1, 3, 5, 8 measured).
+constexpr int kPriorMemory = 5;
+// R8: share of the image above which a box takes no part: a box that large is most
+// likely a false detection and has no outside to contrast with (0.4-0.7 measured).
+constexpr double kMaxBoxArea = 0.7;
+// R10: frames a missed moving-object box is carried (measured at 8 against off).
+constexpr int kCarryFrames = 8;
+// R10: IoU of a fresh detection of its class that replaces a carried box.
+constexpr double kCarryIou = 0.3;
+// R10: share of a box's keypoints that must show motion of their own (beyond eps_std
+// unweighted, or flagged by the RGB-D check) for it to be carried: not a false box.
+constexpr double kCarryMinMotion = 0.2;
+
+}  // namespace
+
 DynamicStage::DynamicStage(const DynamicConfig& config, const DetectorConfig& detection,
                            std::shared_ptr<const Camera> camera, std::unique_ptr<Detector> detector, bool sequential)
     : config_(config),
@@ -19,9 +42,9 @@ DynamicStage::DynamicStage(const DynamicConfig& config, const DetectorConfig& de
       classes_(detection),
       timeout_(detection.timeout_ms),
       stride_(detection.stride),
-      carrier_(config.carry_frames, config.carry_iou,
+      carrier_(config.refinements.box_carry ? kCarryFrames : 0, kCarryIou,
                [table = ClassTable(detection)](const std::string& name) { return table.is_dynamic(name); }) {
-  if (camera_->has_distortion() && config.undistort_pairs && mode_ != dynamic::Mode::kNone &&
+  if (camera_->has_distortion() && config.refinements.undistort_pairs && mode_ != dynamic::Mode::kNone &&
       mode_ != dynamic::Mode::kSemantic) {
     undistort_ = std::make_shared<const dynamic::UndistortTable>(
         cv::Size(camera_->width(), camera_->height()),
@@ -64,7 +87,7 @@ std::vector<bool> DynamicStage::ShowMotion(const std::vector<cv::KeyPoint>& keys
       const dynamic::KeypointVerdict& v = r.keypoints[i];
       evidence += v.why == dynamic::Why::kDepth || (std::isfinite(v.distance) && v.distance >= c.eps_std);
     }
-    moving[b] = inside >= kMinKeypoints && evidence >= c.carry_min_motion * inside;
+    moving[b] = inside >= kMinKeypoints && evidence >= kCarryMinMotion * inside;
   }
   return moving;
 }
@@ -79,7 +102,7 @@ std::vector<std::uint8_t> DynamicStage::JudgeFirstAgain(const dynamic::FlowFrame
   const dynamic::PairSet pairs = dynamic::TrackPairs(cur, prev_, first_keys_, config_, Undistort());
   const dynamic::DepthCheckInput depth = DepthInput(depth_raw, prev_depth_);
   const dynamic::RejectionResult r = dynamic::JudgePairs(mode_, pairs, first_keys_, first_boxes_, weight, config_,
-                                                         config_.depth_check ? &depth : nullptr);
+                                                         config_.refinements.depth_check ? &depth : nullptr);
   for (std::size_t i = 0; i < first_keys_.size(); ++i) {
     now_static[i] = r.keypoints[i].kept && r.keypoints[i].why == dynamic::Why::kStatic;
   }
@@ -111,7 +134,7 @@ dynamic::DepthCheckInput DynamicStage::DepthInput(const cv::Mat& prev_depth, con
 
 dynamic::PairSet DynamicStage::TrackFlow(const std::vector<cv::KeyPoint>& keys, dynamic::FlowFrame& cur) const {
   if (mode_ == dynamic::Mode::kSemantic) return {};
-  cur.pyramid = dynamic::BuildFlowPyramid(cur.gray, config_);
+  cur.pyramid = dynamic::BuildFlowPyramid(cur.gray);
   if (prev_.gray.empty()) return {};  // the first frame: no flow
   return dynamic::TrackPairs(prev_, cur, keys, config_, Undistort());
 }
@@ -151,11 +174,11 @@ dynamic::RejectionResult DynamicStage::Judge(const dynamic::PairSet& pairs, cons
   // No flow yet in sg's first frame: the boxes are the only evidence (R11).
   const dynamic::Mode mode = first && mode_ == dynamic::Mode::kSg ? dynamic::Mode::kSemantic : mode_;
   std::optional<dynamic::DepthCheckInput> depth;
-  if (config_.depth_check && !prev_depth_.empty()) depth = DepthInput(prev_depth_, depth_raw);
+  if (config_.refinements.depth_check && !prev_depth_.empty()) depth = DepthInput(prev_depth_, depth_raw);
   std::vector<Detection> judged;
-  const double max_area = config_.max_box_area * image.area();
+  const double max_area = kMaxBoxArea * image.area();  // R8
   for (const Detection& d : detections) {
-    if (d.box.area() <= max_area) judged.push_back(d);
+    if (!config_.refinements.box_area_limit || d.box.area() <= max_area) judged.push_back(d);
   }
   if (first) first_boxes_ = judged;  // for JudgeFirstAgain (kept only when boxes_only_)
   return dynamic::JudgePairs(mode, pairs, keys, judged, Weight(), config_, depth ? &*depth : nullptr,
@@ -178,7 +201,7 @@ DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, 
   const Stopwatch watch;
   if (!first || mode_ == dynamic::Mode::kSemantic || mode_ == dynamic::Mode::kSg) {
     const dynamic::RejectionResult r = Judge(pairs, keys, depth_raw, gray.size(), first, out.detections);
-    if (boxes_only_ && config_.first_frame_rejudge && mode_ == dynamic::Mode::kSg) {
+    if (boxes_only_ && config_.refinements.first_frame_rejudge && mode_ == dynamic::Mode::kSg) {
       out.static_in_first = JudgeFirstAgain(cur, depth_raw, Weight());
     }
     out.unjudged.assign(keys.size(), 0);
@@ -191,14 +214,16 @@ DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, 
     out.rejected_semantics = r.rejected_semantics;
     out.rejected_depth = r.rejected_depth;
     out.judged = true;
-    prior_ = dynamic::MakeDynamicPrior(keys, r, gray.size(), config_.prior_cell, &prior_,
-                                       config_.prior_memory);
-    if (worker_ && config_.carry_frames > 0) carrier_.Remember(out.detections, ShowMotion(keys, r, out.detections));
+    prior_ = dynamic::MakeDynamicPrior(keys, r, gray.size(), config_.refinements.prior_cells ? kPriorCell : 0,
+                                       &prior_, kPriorMemory);
+    if (worker_ && config_.refinements.box_carry) {
+      carrier_.Remember(out.detections, ShowMotion(keys, r, out.detections));
+    }
   } else {
     out.kept = static_cast<int>(keys.size());
   }
   out.reject_ms = flow_ms + watch.ElapsedMs();
-  boxes_only_ = first && mode_ == dynamic::Mode::kSg && worker_ != nullptr && config_.first_frame_rejudge;
+  boxes_only_ = first && mode_ == dynamic::Mode::kSg && worker_ != nullptr && config_.refinements.first_frame_rejudge;
   out.judged_again = boxes_only_;
   if (boxes_only_) {
     first_keys_ = keys;

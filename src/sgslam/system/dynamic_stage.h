@@ -10,7 +10,9 @@
 // the refinements R8-R11 of dynamic/refinements.h: the box area limit, the
 // detector stride (boxes followed by the flow between detector frames), the carry
 // of missed movers' boxes, and the first frame judged by its boxes alone, then
-// again with the second frame (DynamicOutcome::judged_again). The current LK
+// again with the second frame (DynamicOutcome::judged_again); and it keeps R3's
+// prior of the previous frames' rejections. Their switches are
+// DynamicConfig::refinements, their sizes constants of dynamic_stage.cpp. The current LK
 // pyramid is kept as the next frame's previous one, so each image's pyramid is
 // built once.
 //
@@ -50,7 +52,7 @@ struct DynamicOutcome {
   double detector_ms = 0;      // inference time of this frame's detections
   double wait_ms = 0;          // time tracking waited for them
   double reject_ms = 0;        // flow (before the wait) + F + RGB-D check + decision
-  // The frame after the first (dynamic.first_frame_rejudge): per keypoint of the
+  // The frame after the first (dynamic.refinements.first_frame_rejudge): per keypoint of the
   // first frame, 1 where Algorithm 1, run on it with this frame as the other image,
   // judges it static (Tracker::ConfirmStaticInFirstKeyFrame clears those its boxes
   // rejected); empty otherwise.
@@ -76,7 +78,7 @@ class DynamicStage {
   void Submit(std::uint64_t frame_id, Timestamp t, const cv::Mat& bgr);
 
   // Labels the keypoints (raw, distorted positions) of the frame just submitted.
-  // depth_raw feeds the RGB-D check (dynamic.depth_check).
+  // depth_raw feeds the RGB-D check (dynamic.refinements.depth_check).
   DynamicOutcome Label(std::uint64_t frame_id, const cv::Mat& gray, const cv::Mat& depth_raw,
                        const std::vector<cv::KeyPoint>& keys);
 
@@ -99,12 +101,12 @@ class DynamicStage {
   dynamic::UndistortPointsFn Undistort() const;
   dynamic::DepthCheckInput DepthInput(const cv::Mat& prev_depth, const cv::Mat& cur_depth) const;
 
-  // dynamic.first_frame_rejudge: the first frame's keypoints that Algorithm 1
+  // dynamic.refinements.first_frame_rejudge: the first frame's keypoints that Algorithm 1
   // judges static with cur (this frame) as the other image.
   std::vector<std::uint8_t> JudgeFirstAgain(const dynamic::FlowFrame& cur, const cv::Mat& depth_raw,
                                             const dynamic::WeightFn& weight) const;
 
-  // Per box, whether its keypoints show motion of their own (carry_min_motion).
+  // Per box, whether its keypoints show motion of their own (kCarryMinMotion).
   std::vector<bool> ShowMotion(const std::vector<cv::KeyPoint>& keys, const dynamic::RejectionResult& r,
                                const std::vector<Detection>& boxes) const;
 
@@ -126,8 +128,8 @@ class DynamicStage {
   std::vector<cv::KeyPoint> first_keys_;
   std::vector<Detection> first_boxes_;
   cv::Mat prev_depth_;
-  dynamic::DynamicPrior prior_;  // config.dynamic.prior_cell: the previous frame's rejections
-  dynamic::BoxCarrier carrier_;  // config.dynamic.carry_frames
+  dynamic::DynamicPrior prior_;  // R3, dynamic.refinements.prior_cells: the previous frames' rejections
+  dynamic::BoxCarrier carrier_;  // R10, dynamic.refinements.box_carry
 };
 
 }  // namespace sgslam

@@ -22,15 +22,12 @@ namespace {
 
 constexpr std::size_t kLoopQueueSize = 16;  // keyframes waiting for loop detection (a few ms each)
 constexpr int kGlobalBaIterations = 10;     // per stage, after a loop (ORB-SLAM2)
-
-// The map starts on a frame with min_init_points keypoints with depth, but never
-// needs more than half the ORB budget: not every keypoint has depth (ORB-SLAM2 asks
-// for 500 keypoints, with depth or not), and a user may lower orb.features for speed.
-TrackingConfig TrackingSection(const Config& config) {
-  TrackingConfig tracking = config.tracking;
-  tracking.min_init_points = std::min(tracking.min_init_points, std::max(1, config.orb.features / 2));
-  return tracking;
-}
+constexpr std::size_t kMappingQueueSize = 3;  // keyframes waiting for local mapping, beyond which tracking waits
+// Frames after a keyframe during which local mapping counts as busy for the
+// keyframe decision (ORB-SLAM2's "idle" rule). --sequential steps the mapper at
+// once, so it always waits this long; in parallel, a keyframe due later
+// interrupts a running BA, as ORB-SLAM2's InterruptBA does.
+constexpr std::uint64_t kMappingBusyFrames = 5;
 
 // The semantic thread's second, larger detector (semantic.keyframe_model): only
 // where tracking's runs on the network backend (file detections are exact already;
@@ -61,13 +58,10 @@ SlamSystem::SlamSystem(const Config& config, bool sequential, std::unique_ptr<De
       extractor_(config.orb),
       dynamic_(config.dynamic, config.detector, camera_, std::move(detector), sequential),
       places_(MakeKeyFrameDatabase(config.loop)),
-      tracker_(TrackingSection(config), config.camera, map_, places_),
+      tracker_(config.tracking, config.orb.features, config.camera, map_, places_),
       mapper_(config.mapping, config.camera.close_depth_m(), map_, places_),
-      mapping_("sg-mapping", static_cast<std::size_t>(config.mapping.queue_size)),
+      mapping_("sg-mapping", kMappingQueueSize),
       loops_("sg-loop", kLoopQueueSize) {
-  // OpenCV's own worker threads (resize, blur, LK) would compete with local mapping
-  // for the second core in every mode, not only when the detector sets it.
-  if (config.detector.threads > 0) cv::setNumThreads(config.detector.threads);
   // orb.threads 0: a helper thread only where a core is free for it; on two
   // cores local mapping has the second one.
   const bool spare_core = std::thread::hardware_concurrency() > 2 && !sequential_ && !dynamic_.has_detector();
@@ -281,12 +275,12 @@ Frame SlamSystem::MakeFrame(std::uint64_t frame_id, const RgbdImages& images, Fr
 
 TrackResult SlamSystem::Track(Frame& frame, FrameReport& report) {
   const Stopwatch watch;
-  // Local mapping counts as idle busy_frames after the last keyframe (see
-  // MappingConfig::busy_frames); in parallel also whenever it really is idle.
+  // Local mapping counts as idle kMappingBusyFrames after the last keyframe; in
+  // parallel also whenever it really is idle.
   // A keyframe queued while its BA runs interrupts it (the mapper's interrupted()).
-  const bool waited = frame.id >= last_keyframe_frame_id_ + static_cast<std::uint64_t>(config_.mapping.busy_frames);
+  const bool waited = frame.id >= last_keyframe_frame_id_ + kMappingBusyFrames;
   const bool idle = mapping_.threaded() ? mapping_.queued() == 0 && (!mapping_.busy() || waited) : waited;
-  const bool full = mapping_.queued() >= static_cast<std::size_t>(config_.mapping.queue_size);
+  const bool full = mapping_.queued() >= kMappingQueueSize;
   const TrackResult result = tracker_.Track(frame, idle, full);
   report.state = result.state;
   report.matches = result.matches;

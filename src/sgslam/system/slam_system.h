@@ -190,7 +190,7 @@ class SlamSystem {
   };
   std::vector<PoseRecord> records_;
   std::uint64_t next_frame_id_ = 0;
-  std::uint64_t last_keyframe_frame_id_ = 0;  // for MappingConfig::busy_frames
+  std::uint64_t last_keyframe_frame_id_ = 0;  // for the mapping-busy rule (slam_system.cpp)
   std::optional<std::size_t> map_full_at_;     // mapping.max_keyframes reached at this frame
   std::optional<SemanticInput> held_;          // the last frame's keyframe, not yet mapped (TrackResult::keyframe_held)
 

@@ -10,6 +10,17 @@
 
 namespace sgslam {
 
+namespace {
+
+// ORB-SLAM2's keyframe rules for RGB-D.
+constexpr double kKeyFrameRefRatio = 0.75;       // a keyframe when tracked points fall below this share of the reference's
+constexpr int kMaxFramesBetweenKeyFrames = 30;   // frames at most between keyframes
+constexpr int kCloseTrackedMin = 100;            // a keyframe is needed when fewer close points are tracked ...
+constexpr int kCloseUntrackedMin = 70;           // ... and more than this many close points are not
+constexpr int kKeyFrameMinNewPoints = 100;       // points created per keyframe beyond the close range
+
+}  // namespace
+
 bool Tracker::NeedNewKeyFrame(const Frame& frame, int inliers, bool mapping_idle, bool mapping_full) const {
   if (mapping_full) return false;
   const std::size_t keyframes = map_.keyframes().size();
@@ -26,12 +37,10 @@ bool Tracker::NeedNewKeyFrame(const Frame& frame, int inliers, bool mapping_idle
     if (frame.map_points[i] && !frame.outlier[i]) ++close_tracked;
     else ++close_untracked;
   }
-  const bool need_close = close_tracked < config_.close_tracked_min &&
-                          close_untracked > config_.close_untracked_min;
-  const double ratio = keyframes < 2 ? 0.4 : config_.keyframe_ref_ratio;
-  const std::uint64_t max_gap = config_.max_frames_between_keyframes > 0
-                                    ? static_cast<std::uint64_t>(config_.max_frames_between_keyframes)
-                                    : static_cast<std::uint64_t>(camera_.fps);
+  const bool need_close = close_tracked < kCloseTrackedMin &&
+                          close_untracked > kCloseUntrackedMin;
+  const double ratio = keyframes < 2 ? 0.4 : kKeyFrameRefRatio;
+  const auto max_gap = static_cast<std::uint64_t>(kMaxFramesBetweenKeyFrames);
   const std::uint64_t since = frame.id - last_keyframe_frame_id_;
   const bool c1a = since >= max_gap;
   const bool c1b = mapping_idle;
@@ -65,8 +74,10 @@ int Tracker::AddDepthPoints(Frame& frame, const std::shared_ptr<KeyFrame>& kf, b
     // disagrees with the map: on a moving object it would re-enter the map at
     // every keyframe at its new place. Only with dynamic rejection on (labels
     // present): mode none stays ORB-SLAM2's rule.
+    // No new point from a keypoint that was a pose outlier in a dynamic mode: it
+    // may be a mover the rejection missed.
     const bool suspect = frame.map_points[i] && frame.outlier[i] && !f.dynamic.empty();
-    if (f.depth[i] > 0 && !frame.rejected[i] && !(suspect && config_.skip_outlier_depth_points)) {
+    if (f.depth[i] > 0 && !frame.rejected[i] && !suspect) {
       by_depth.emplace_back(f.depth[i], i);
     }
   }
@@ -75,7 +86,7 @@ int Tracker::AddDepthPoints(Frame& frame, const std::shared_ptr<KeyFrame>& kf, b
   int created = 0, visited = 0;
   for (const auto& [d, i] : by_depth) {
     // All close points, and at least keyframe_min_new_points in total (ORB-SLAM2).
-    if (!all && d > th_depth_ && visited > config_.keyframe_min_new_points) break;
+    if (!all && d > th_depth_ && visited > kKeyFrameMinNewPoints) break;
     ++visited;
     const auto& existing = kf->map_point(i);
     if (existing && existing->num_observations() > 0) continue;

@@ -16,6 +16,30 @@ namespace sgslam {
 
 namespace {
 
+// ORB-SLAM2's RGB-D tracking settings unless a comment says otherwise.
+constexpr int kMinInitPoints = 500;           // keypoints with depth needed to start the map (see the constructor)
+constexpr double kMotionSearchRadius = 15.0;  // px at level 0, constant-velocity projection search
+// factor, local-map projection search (ORB-SLAM2: 3): under fast rotation the
+// rolling shutter shifts rows by pixels.
+constexpr double kLocalSearchRadius = 5.0;
+constexpr double kDescriptorRatio = 0.7;  // best/second-best ratio, reference keyframe matching
+constexpr int kMinMotionMatches = 20;     // matches needed to trust the motion model
+constexpr int kMinPoseInliers = 10;       // inliers after pose optimisation (motion / reference)
+constexpr int kMinLocalInliers = 30;      // inliers after local-map tracking
+// Keyframes tried per frame while lost without place recognition (loop.enabled
+// false): the newest 5, then the nearest.
+constexpr int kRecoverCandidates = 30;
+// Trusted map points (refinements.trusted_points, trusted_pose.h): trusted after
+// this many inlier matches at least kTrustDelay after their keyframe made them;
+// a frame is fitted to them first when it has kTrustMinPoints of them.
+constexpr double kTrustDelay = 0.3;  // s
+constexpr int kTrustHits = 2;
+constexpr int kTrustMinPoints = 20;
+// bits: how close a rejected keypoint's descriptor must be to a trusted map point
+// that no kept keypoint matched (refinements.rejected_matches); 0: never matched.
+constexpr int kRejectedMatchDistance = 50;
+constexpr double kRollingShutterPrior = 1.0;  // rad/s, sigma of the refined angular velocity around the predicted one
+
 optim::Intrinsics IntrinsicsOf(const Camera& cam) {
   return {cam.fx(), cam.fy(), cam.cx(), cam.cy(), cam.baseline_fx()};
 }
@@ -56,11 +80,16 @@ const char* ToString(TrackState state) {
   return "?";
 }
 
-Tracker::Tracker(const TrackingConfig& config, const CameraConfig& camera, Map& map,
+// The map starts on a frame with kMinInitPoints keypoints with depth, but never
+// needs more than half the ORB budget: not every keypoint has depth (ORB-SLAM2 asks
+// for 500 keypoints, with depth or not), and a user may lower orb.features for speed.
+Tracker::Tracker(const TrackingConfig& config, int orb_features, const CameraConfig& camera, Map& map,
                  std::shared_ptr<const KeyFrameDatabase> places)
     : config_(config),
       camera_(camera),
-      trust_{config.trust_delay, config.trust_hits, config.trust_min_points},
+      min_init_points_(std::min(kMinInitPoints, std::max(1, orb_features / 2))),
+      rejected_match_distance_(config.refinements.rejected_matches ? kRejectedMatchDistance : 0),
+      trust_{config.refinements.trusted_points ? kTrustDelay : 0.0, kTrustHits, kTrustMinPoints},
       map_(map),
       places_(std::move(places)),
       th_depth_(camera.close_depth_m()) {}
@@ -173,11 +202,11 @@ Tracker::Before Tracker::BeforeOf(const Frame& frame) {
 }
 
 bool Tracker::KeyFramesWait() const {
-  return config_.keyframe_velocity_central && camera_.readout > 0;
+  return config_.refinements.keyframe_velocity_central && camera_.readout > 0;
 }
 
 bool Tracker::UsesCentralDifference() const {
-  return KeyFramesWait() || (config_.frame_velocity_central && camera_.readout > 0);
+  return KeyFramesWait() || (config_.refinements.frame_velocity_central && camera_.readout > 0);
 }
 
 bool Tracker::CorrectWaitingKeyFrame(const std::shared_ptr<KeyFrame>& kf, const Before& before, const Frame& next) {
@@ -200,7 +229,7 @@ bool Tracker::CorrectWaitingKeyFrame(const std::shared_ptr<KeyFrame>& kf, const 
 }
 
 std::optional<SE3> Tracker::RefinePrevious(const Frame& next) {
-  if (!config_.frame_velocity_central || camera_.readout <= 0) return std::nullopt;
+  if (!config_.refinements.frame_velocity_central || camera_.readout <= 0) return std::nullopt;
   // before_last_ is adjacent to last_frame_ by construction, except for the map's
   // first frame (its own pose, no central difference).
   if (!before_last_ || before_last_->id + 1 != last_frame_.id || last_frame_.id + 1 != next.id) return std::nullopt;
@@ -219,22 +248,22 @@ std::optional<SE3> Tracker::RefinePrevious(const Frame& next) {
   // Fitted again, the frame must keep nearly all the matches it was tracked with
   // (they were all inliers): a velocity that fits it worse is not a better one.
   const int inliers = OptimizePose(copy);
-  if (inliers < config_.min_pose_inliers || inliers < 0.9 * matched) return std::nullopt;
+  if (inliers < kMinPoseInliers || inliers < 0.9 * matched) return std::nullopt;
   return copy.T_c_w;
 }
 
 bool Tracker::Initialize(Frame& frame, TrackResult& result) {
   const auto& depth = frame.features->depth;
   const auto with_depth = std::count_if(depth.begin(), depth.end(), [](float d) { return d > 0; });
-  // Capped at half the ORB budget by the system (SlamSystem's TrackingSection): not
-  // every keypoint has depth, so a frame would never reach the whole budget.
-  const int needed = config_.min_init_points;
+  // At most half the ORB budget (the constructor): not every keypoint has depth, so
+  // a frame would never reach the whole budget.
+  const int needed = min_init_points_;
   if (with_depth < needed) {
     best_init_depth_points_ = std::max<int>(best_init_depth_points_, static_cast<int>(with_depth));
     if (++init_failures_ == kInitWarnFrames) {
       spdlog::warn(
           "tracking has not started after {} frames: the best had {} keypoints with depth, {} are needed "
-          "(tracking.min_init_points, at most half of orb.features); is the depth image empty, or out of "
+          "(500, at most half of orb.features); is the depth image empty, or out of "
           "range for camera.depth_factor?",
           kInitWarnFrames, best_init_depth_points_, needed);
     }
@@ -243,7 +272,7 @@ bool Tracker::Initialize(Frame& frame, TrackResult& result) {
   // The map starts from the keypoints that dynamic rejection kept. When it kept
   // few of them (a first frame whose false-positive boxes cover most of the image,
   // with no flow yet to judge by), a map of a hundred points can lose the next
-  // frame for good: wait for a frame that keeps at least half of min_init_points,
+  // frame for good: wait for a frame that keeps at least half of min_init_points_,
   // but not forever (a scene that stays covered by movers must still start).
   // Half, not all: a false "person" box may cover much of the first frame, and the
   // next frame's flow judges those keypoints again (ConfirmStaticInFirstKeyFrame)
@@ -279,17 +308,17 @@ bool Tracker::Initialize(Frame& frame, TrackResult& result) {
 bool Tracker::TrackWithMotionModel(Frame& frame, TrackResult& result) {
   frame.T_c_w = velocity_ * last_frame_.T_c_w;
   std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
-  const double r = config_.motion_search_radius;
-  int n = matcher::SearchByProjection(frame, last_frame_, r, config_.rejected_match_distance);
-  if (n < config_.min_motion_matches) {  // a wider window before giving up
+  const double r = kMotionSearchRadius;
+  int n = matcher::SearchByProjection(frame, last_frame_, r, rejected_match_distance_);
+  if (n < kMinMotionMatches) {  // a wider window before giving up
     std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
-    n = matcher::SearchByProjection(frame, last_frame_, 2 * r, config_.rejected_match_distance);
+    n = matcher::SearchByProjection(frame, last_frame_, 2 * r, rejected_match_distance_);
   }
   result.matches = n;
-  if (n < config_.min_motion_matches) return false;
+  if (n < kMinMotionMatches) return false;
   const int inliers = OptimizePose(frame);
   DiscardOutliers(frame);
-  return inliers >= config_.min_pose_inliers;
+  return inliers >= kMinPoseInliers;
 }
 
 void Tracker::DiscardOutliers(Frame& frame) {
@@ -304,13 +333,13 @@ void Tracker::DiscardOutliers(Frame& frame) {
 bool Tracker::TrackReferenceKeyFrame(Frame& frame, const std::shared_ptr<KeyFrame>& keyframe, TrackResult& result) {
   if (!keyframe || keyframe->bad()) return false;
   std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
-  const int n = matcher::SearchByDescriptor(*keyframe, frame, config_.descriptor_ratio);
+  const int n = matcher::SearchByDescriptor(*keyframe, frame, kDescriptorRatio);
   result.matches = n;
   if (n < 15) return false;
   frame.T_c_w = last_frame_.T_c_w;
   const int inliers = OptimizePose(frame);
   DiscardOutliers(frame);
-  if (inliers < config_.min_pose_inliers) return false;
+  if (inliers < kMinPoseInliers) return false;
   reference_kf_ = keyframe;
   return true;
 }
@@ -334,7 +363,7 @@ bool Tracker::Recover(Frame& frame, TrackResult& result) {
     if (!kf->bad()) near.emplace_back((kf->center() - last_center).norm(), kf);
   }
   std::stable_sort(near.begin(), near.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
-  const auto cap = static_cast<std::size_t>(config_.recover_candidates);
+  const auto cap = static_cast<std::size_t>(kRecoverCandidates);
   if (candidates.size() > cap) candidates.resize(cap);
   for (const auto& [d, kf] : near) {
     if (candidates.size() >= cap) break;
@@ -342,15 +371,15 @@ bool Tracker::Recover(Frame& frame, TrackResult& result) {
   }
   for (const auto& kf : candidates) {
     std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
-    const int n = matcher::SearchByDescriptor(*kf, frame, config_.descriptor_ratio);
+    const int n = matcher::SearchByDescriptor(*kf, frame, kDescriptorRatio);
     result.matches = n;
     if (n < 15) continue;
-    const std::optional<SE3> T_c_w = PnpOnMatches(frame, {300, 4.0, config_.min_pose_inliers});
+    const std::optional<SE3> T_c_w = PnpOnMatches(frame, {300, 4.0, kMinPoseInliers});
     if (!T_c_w) continue;
     frame.T_c_w = *T_c_w;
     const int inliers = OptimizePose(frame);
     DiscardOutliers(frame);
-    if (inliers < config_.min_pose_inliers) continue;
+    if (inliers < kMinPoseInliers) continue;
     reference_kf_ = kf;
     return true;
   }
@@ -407,7 +436,7 @@ bool Tracker::RelocaliseWith(Frame& frame, const KeyFrame& candidate, const voca
 
 bool Tracker::TrackLocalMap(Frame& frame, TrackResult& result) {
   if (auto ref = local_map_.Update(frame)) reference_kf_ = ref;
-  local_map_.Search(frame, config_.local_search_radius, config_.rejected_match_distance);
+  local_map_.Search(frame, kLocalSearchRadius, rejected_match_distance_);
   result.matches = static_cast<int>(std::count_if(frame.map_points.begin(), frame.map_points.end(),
                                                   [](const auto& p) { return p != nullptr; }));
   OptimizePose(frame);
@@ -422,14 +451,14 @@ bool Tracker::TrackLocalMap(Frame& frame, TrackResult& result) {
     if (p->num_observations() > 0) ++inliers;
   }
   result.inliers = inliers;
-  return inliers >= config_.min_local_inliers;
+  return inliers >= kMinLocalInliers;
 }
 
 void Tracker::RefineRollingShutter(Frame& frame) {
   const std::shared_ptr<const Features> held = frame.features;  // f stays valid when replaced below
   const Features& f = *held;
   const double readout = f.camera->config().readout;
-  if (readout <= 0 || !config_.rolling_shutter_refine) return;
+  if (readout <= 0 || !config_.refinements.rolling_shutter_refine) return;
   std::vector<optim::PoseObservation> obs;
   std::vector<double> row_time;
   for (std::size_t i = 0; i < frame.map_points.size(); ++i) {
@@ -438,7 +467,7 @@ void Tracker::RefineRollingShutter(Frame& frame) {
     row_time.push_back(RowTimeOffset(f.keys[i].pt.y, f.camera->height(), readout));
   }
   optim::RollingShutterPoseOptions options;
-  options.prior_sigma = config_.rolling_shutter_prior;
+  options.prior_sigma = kRollingShutterPrior;
   const auto r = optim::OptimizePoseAndAngularVelocity(frame.T_c_w, obs, row_time, IntrinsicsOf(*f.camera), options);
   if (!r.ok) return;
   frame.features = WithRollingShutterCorrection(f, f.angular_velocity + r.delta);

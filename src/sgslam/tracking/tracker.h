@@ -34,7 +34,7 @@ struct TrackResult {
   std::shared_ptr<KeyFrame> new_keyframe;  // for local mapping, when one was made
   std::shared_ptr<KeyFrame> reference;     // the frame's reference keyframe (state ok)
   SE3 T_c_r;                               // the frame's pose relative to it, as tracked
-  // tracking.frame_velocity_central: the previous frame's pose fitted again once
+  // tracking.refinements.frame_velocity_central: the previous frame's pose fitted again once
   // this frame's pose is known (Tracker::RefinePrevious); for the exported
   // trajectory only, tracking goes on from the pose it had.
   struct Refined {
@@ -45,7 +45,7 @@ struct TrackResult {
   // new_keyframe stays with tracking for one frame, because the next frame changes
   // it; its points are in the map meanwhile. The caller hands it to local mapping
   // after the next Track call (or at the end of the sequence). Two reasons:
-  // - a rolling shutter with tracking.keyframe_velocity_central: the next Track
+  // - a rolling shutter with tracking.refinements.keyframe_velocity_central: the next Track
   //   corrects its keypoints with the angular velocity of the poses on either side
   //   (central difference, no lag) instead of the one fitted within its own frame,
   //   which lags the truth by about 1.5 frames, and moves the points it made (the
@@ -58,11 +58,11 @@ struct TrackResult {
 
 class Tracker {
  public:
-  // config.min_init_points is taken as it is (the system caps it at half the ORB
-  // budget); camera: the frame rate, the rolling-shutter readout, the close range;
+  // orb_features: the ORB budget per frame (the map's first frame needs at most
+  // half of it with depth); camera: the rolling-shutter readout, the close range;
   // places: the place-recognition database a lost camera is relocalised with
   // (null: only keyframes near its last pose are tried).
-  Tracker(const TrackingConfig& config, const CameraConfig& camera, Map& map,
+  Tracker(const TrackingConfig& config, int orb_features, const CameraConfig& camera, Map& map,
           std::shared_ptr<const KeyFrameDatabase> places = nullptr);
 
   // mapping_idle / mapping_full: whether local mapping is free, and whether its
@@ -130,6 +130,8 @@ class Tracker {
 
   const TrackingConfig config_;
   const CameraConfig camera_;
+  const int min_init_points_;          // keypoints with depth the map's first frame needs
+  const int rejected_match_distance_;  // bits, refinements.rejected_matches; 0: never
   const TrustOptions trust_;
   Map& map_;
   const std::shared_ptr<const KeyFrameDatabase> places_;
@@ -163,7 +165,7 @@ class Tracker {
   // Whether either central difference is on (before_last_ is kept only then).
   bool UsesCentralDifference() const;
   TrackResult TrackFrame(Frame& frame, bool mapping_idle, bool mapping_full);  // Track but keyframe_held
-  // With a rolling shutter and tracking.keyframe_velocity_central (TrackResult::keyframe_held).
+  // With a rolling shutter and tracking.refinements.keyframe_velocity_central (TrackResult::keyframe_held).
   bool KeyFramesWait() const;
   // last_frame_'s keyframe, held for this frame's velocity (KeyFramesWait).
   std::shared_ptr<KeyFrame> waiting_;
@@ -171,7 +173,7 @@ class Tracker {
   // before, the frame before it; false when it could not (no velocity, or the
   // keyframe was culled).
   bool CorrectWaitingKeyFrame(const std::shared_ptr<KeyFrame>& kf, const Before& before, const Frame& next);
-  // tracking.frame_velocity_central: last_frame_'s keypoints corrected with the
+  // tracking.refinements.frame_velocity_central: last_frame_'s keypoints corrected with the
   // angular velocity of the poses on either side (before_last_ and next, both
   // tracked and adjacent), and its pose fitted again to its matches; none when
   // it cannot be. Leaves last_frame_ as it is.
