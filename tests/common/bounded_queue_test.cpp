@@ -66,6 +66,17 @@ TEST(BoundedQueue, ShutdownAndClearTakesEverythingOut) {
   EXPECT_FALSE(q.Push(3).accepted);
 }
 
+// The semantic map's wake-up: never pushes an item out of a full drop-oldest queue.
+TEST(BoundedQueue, PushIfEmptyNeverDrops) {
+  BoundedQueue<int> q(1, Overflow::kDropOldest);
+  EXPECT_TRUE(q.PushIfEmpty(1));
+  EXPECT_FALSE(q.PushIfEmpty(2)) << "one waits: it is served first";
+  EXPECT_EQ(q.dropped(), 0u);
+  EXPECT_EQ(q.Pop(), 1);
+  q.Shutdown();
+  EXPECT_FALSE(q.PushIfEmpty(3));
+}
+
 // The ROS node's frames: the newest kept, a timed pop for a consumer with other work.
 TEST(BoundedQueue, PopForTimesOutIsWokenAndDrainsAfterShutdown) {
   BoundedQueue<int> q(2, Overflow::kDropOldest);

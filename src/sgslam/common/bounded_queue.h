@@ -50,6 +50,16 @@ class BoundedQueue {
     return out;
   }
 
+  // Pushes only into an empty queue (never blocks, never drops): false when an item
+  // waits already, or after Shutdown().
+  bool PushIfEmpty(T item) {
+    std::lock_guard lock(mutex_);
+    if (shut_down_ || !items_.empty()) return false;
+    items_.push_back(std::move(item));
+    not_empty_.notify_one();
+    return true;
+  }
+
   // Blocks while empty. Returns nullopt once shut down and drained.
   std::optional<T> Pop() {
     std::unique_lock lock(mutex_);

@@ -1,5 +1,6 @@
 // How the system runs its stages (docs/architecture.md, "Threads and queues"):
-// a stage that consumes items (local mapping's keyframes, loop closing's) runs
+// a stage that consumes items (the detector's images, local mapping's keyframes,
+// loop closing's, the semantic map's) runs
 // either inline, on the thread that posts them (--sequential: the same bytes on
 // every run), or on a named thread of its own behind a BoundedQueue. The stage's
 // code is the same in both; only Stage knows which it is. Job is the same for
@@ -48,14 +49,32 @@ class Stage {
   }
 
   // Inline: the work runs now, on this thread. Threaded: the item is queued (a full
-  // queue blocks or drops its oldest, as constructed); ignored after Finish().
-  void Post(T item) {
+  // queue blocks or drops its oldest, as constructed: the result names the item
+  // dropped). Ignored (not accepted) after Finish() or Abandon().
+  typename BoundedQueue<T>::Pushed Post(T item) {
+    typename BoundedQueue<T>::Pushed out;
     if (thread_.joinable()) {
-      queue_.Push(std::move(item));
+      out = queue_.Push(std::move(item));
     } else if (work_ && !finished_) {
       work_(std::move(item));
+      out.accepted = true;
     }
+    return out;
   }
+
+  // Post() only when no item waits (inline: always): a wake-up that must not push
+  // an item out of a full drop-oldest queue. False when one waits, or after Finish().
+  bool PostIfEmpty(T item) {
+    if (thread_.joinable()) return queue_.PushIfEmpty(std::move(item));
+    if (!work_ || finished_) return false;
+    work_(std::move(item));
+    return true;
+  }
+
+  // From any thread: the queued items are taken out and returned (not worked on),
+  // the item in progress ends as usual, and nothing is accepted from now on.
+  // Finish() still joins the thread.
+  std::deque<T> Abandon() { return queue_.ShutdownAndClear(); }
 
   // The queued items are worked through, then the thread ends. Idempotent.
   void Finish() {

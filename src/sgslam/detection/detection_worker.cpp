@@ -6,7 +6,6 @@
 #include <utility>
 
 #include "sgslam/common/stats.h"
-#include "sgslam/common/thread_name.h"
 
 namespace sgslam {
 
@@ -23,19 +22,14 @@ DetectionWorker::DetectionWorker(std::unique_ptr<Detector> detector, Options opt
     : detector_(std::move(detector)),
       options_{options.sequential, std::max<std::size_t>(options.max_pending, 1)},
       description_(detector_ ? detector_->Describe() : ""),
-      pending_(options_.max_pending, Overflow::kDropOldest) {
+      stage_("sg-detector", options_.max_pending, Overflow::kDropOldest) {
   if (!detector_) throw std::invalid_argument("DetectionWorker needs a detector");
-  if (!options_.sequential) {
-    thread_ = std::thread([this] {
-      NameThisThread("sg-detector");
-      Run();
-    });
-  }
+  stage_.Start(!options_.sequential, [this](Job job) { Process(std::move(job)); });
 }
 
 DetectionWorker::~DetectionWorker() {
   Shutdown();
-  if (thread_.joinable()) thread_.join();
+  stage_.Finish();
 }
 
 void DetectionWorker::Submit(std::uint64_t frame_id, Timestamp t, cv::Mat bgr) {
@@ -53,18 +47,10 @@ void DetectionWorker::Submit(std::uint64_t frame_id, Timestamp t, cv::Mat bgr) {
     }
     slots_[frame_id];  // outstanding
   }
-  if (options_.sequential) {
-    Process(Job{frame_id, t, std::move(bgr)});
-    return;
-  }
-  auto pushed = pending_.Push(Job{frame_id, t, std::move(bgr)});
+  auto pushed = stage_.Post(Job{frame_id, t, std::move(bgr)});  // sequential: processed now
   std::lock_guard lock(mutex_);
   if (!pushed.accepted) Dropped(frame_id);  // shut down meanwhile
   if (pushed.dropped) Dropped(pushed.dropped->frame_id);
-}
-
-void DetectionWorker::Run() {
-  while (auto job = pending_.Pop()) Process(std::move(*job));
 }
 
 void DetectionWorker::Dropped(std::uint64_t frame_id) {
@@ -136,7 +122,7 @@ void DetectionWorker::Shutdown() {
     if (shut_down_) return;
     shut_down_ = true;
   }
-  const auto abandoned = pending_.ShutdownAndClear();
+  const auto abandoned = stage_.Abandon();
   std::lock_guard lock(mutex_);
   for (const Job& job : abandoned) Dropped(job.frame_id);
   result_ready_.notify_all();

@@ -7,20 +7,20 @@
 // - Submit() and Wait() are called by one producer/consumer thread (tracking);
 //   Shutdown() and stats() by any thread. Frame ids must increase from Submit to
 //   Submit.
+// - The detector runs on a Stage (common/stage.h): the thread `sg-detector`, or
+//   inline inside Submit in sequential mode, one frame at a time.
 // - Submit never blocks on inference: at most max_pending frames wait behind the
-//   one being processed in a drop-oldest queue (common/bounded_queue.h); a newer
-//   frame pushes out the oldest waiting one, which is counted as dropped.
-// - The detector is called by the worker thread only (by Submit's caller in
-//   sequential mode), one frame at a time. The image passed to Submit is shared,
+//   one being processed in the stage's drop-oldest queue; a newer frame pushes out
+//   the oldest waiting one, which is counted as dropped. The image passed to Submit is shared,
 //   not copied: its pixels must not be written afterwards.
 // - Wait(id) returns the frame's detections once ready; nullopt on timeout, when
 //   the frame was dropped, never submitted, or after Shutdown(). Results of frames
 //   up to id are then discarded, so memory stays bounded.
 // - An exception thrown by the detector is rethrown by the next Wait() (once).
-// - Sequential mode runs the detector inside Submit: no thread, deterministic
-//   results, the same Wait() semantics (it never has to block).
+// - Sequential mode: deterministic results, the same Wait() semantics (it never
+//   has to block).
 // - Shutdown() wakes every waiter and drops the pending frames; the destructor
-//   calls it and joins the thread. Waiting is on condition variables only.
+//   calls it and ends the stage. Waiting is on condition variables only.
 #pragma once
 
 #include <chrono>
@@ -32,10 +32,9 @@
 #include <mutex>
 #include <optional>
 #include <string>
-#include <thread>
 #include <vector>
 
-#include "sgslam/common/bounded_queue.h"
+#include "sgslam/common/stage.h"
 #include "sgslam/detection/detector.h"
 
 namespace sgslam {
@@ -90,7 +89,6 @@ class DetectionWorker {
     bool outstanding = true;
     std::optional<DetectionResult> result;
   };
-  void Run();
   void Process(Job job);                   // runs Detect outside the lock, then stores the outcome
   void Dropped(std::uint64_t frame_id);    // needs mutex_
   void KeepResultsBounded();               // needs mutex_
@@ -98,15 +96,14 @@ class DetectionWorker {
   const std::unique_ptr<Detector> detector_;
   const Options options_;
   const std::string description_;
-  BoundedQueue<Job> pending_;  // drop-oldest
-  mutable std::mutex mutex_;   // guards what follows
+  mutable std::mutex mutex_;  // guards what follows, up to stage_
   std::condition_variable result_ready_;
   std::optional<std::uint64_t> last_submitted_;
   std::map<std::uint64_t, Slot> slots_;  // submitted frames not yet waited for
   std::exception_ptr error_;             // first detector exception not yet rethrown
   bool shut_down_ = false;
   DetectionWorkerStats stats_;
-  std::thread thread_;  // last: started after every other member exists
+  Stage<Job> stage_;  // last: started after every other member exists, ended first
 };
 
 }  // namespace sgslam

@@ -105,7 +105,11 @@ void SemanticMapper::Release(bool all) {
     job.carried = CarriedBoxes(pending_.front().keyframe->frame_id);
     job.keyframe = std::move(pending_.front());
     pending_.pop_front();
-    stage_.Post(std::move(job));
+    const auto pushed = stage_.Post(std::move(job));
+    if (pushed.dropped && pushed.dropped->keyframe) {  // not a wake-up (Wake)
+      std::lock_guard lock(mutex_);
+      ++stats_.dropped;
+    }
   }
 }
 
@@ -123,8 +127,8 @@ void SemanticMapper::Finish() {
 void SemanticMapper::Wake() {
   if (finished_) {
     ServeRequests();  // this thread is now the only one touching the map
-  } else if (stage_.queued() == 0) {
-    stage_.Post(Job{});
+  } else {
+    stage_.PostIfEmpty(Job{});  // a job waiting already serves the requests first
   }
 }
 
@@ -173,7 +177,6 @@ SemanticMapper::Published SemanticMapper::published() const {
 SemanticStats SemanticMapper::stats() const {
   std::lock_guard lock(mutex_);
   SemanticStats s = stats_;
-  s.dropped = stage_.dropped();
   const auto median = [&](double SemanticMap::StageMs::*field) {
     std::vector<double> v;
     for (const SemanticMap::StageMs& m : stage_ms_) v.push_back(m.*field);

@@ -5,8 +5,9 @@
 //
 // Threading: the map runs on a Stage (common/stage.h): inline on the thread that
 // hands it keyframes (--sequential), or on the thread `sg-semantic` behind a
-// drop-oldest queue of semantic.queue_size keyframes (the oldest is dropped and
-// counted; the thread at the lowest CPU priority with semantic.low_priority).
+// drop-oldest queue of semantic.queue_size keyframes whose box window is complete
+// (the oldest is dropped and counted; the thread at the lowest CPU priority with
+// semantic.low_priority).
 // Submit() is called by one producer (local mapping) and AddFrame() by tracking for
 // every frame; neither blocks. With semantic.filters.box_window a keyframe waits in
 // a pending list until the kBoxWindow frames after it (semantic_mapper.cpp) are in,
@@ -121,7 +122,7 @@ class SemanticMapper {
   };
   void Work(Job job);  // on the stage
   void ServeRequests();  // on the stage (or the only thread after Finish)
-  // Posts an empty job unless one is queued already (which serves the requests
+  // Posts an empty job unless a job is queued already (which serves the requests
   // first): never pushes a keyframe out of a full queue.
   void Wake();
   // Under window_mutex_: hands the pending keyframes whose window is complete (all:
