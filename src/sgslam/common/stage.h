@@ -85,7 +85,6 @@ class Stage {
 
   bool threaded() const { return thread_.joinable(); }
   std::size_t queued() const { return queue_.size(); }  // items waiting; 0 inline
-  std::size_t dropped() const { return queue_.dropped(); }  // Overflow::kDropOldest: items pushed out
   bool busy() const { return busy_; }                  // the thread is on an item; false inline
 
  private:
