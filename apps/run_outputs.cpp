@@ -38,7 +38,8 @@ std::string FailedOutputs::Joined() const {
 const std::vector<std::string>& RunOutputNames() {
   static const std::vector<std::string> kNames = {
       "trajectory.txt", "trajectory_online.txt", "keyframes.txt", "frames.csv",   "detections.txt",   "map_points.ply",
-      "cloud.ply",      "octomap.bt",            "objects.json",  "map_top.png", "config_used.yaml", "stats.json"};
+      "cloud.ply",      "octomap.bt",            "objects.json",  "map_top.png", "config_used.yaml", "stats.json",
+      "tracks.txt"};
   return kNames;
 }
 
@@ -86,6 +87,9 @@ RunMaps WriteSystemOutputs(const std::filesystem::path& out, SlamSystem& system,
   failed.Try("keyframes.txt", [&] { WriteTumTrajectory(out / "keyframes.txt", system.KeyFrameTrajectory()); });
   failed.Try("trajectory_online.txt",
              [&] { WriteTumTrajectory(out / "trajectory_online.txt", system.OnlineTrajectory()); });
+  if (system.mover_tracker() != nullptr) {
+    failed.Try("tracks.txt", [&] { movers::WriteTracksFile(out / "tracks.txt", system.MoverTracks()); });
+  }
   const auto points = system.MapPointPositions();
   maps.map_points = points.size();
   failed.Try("map_points.ply", [&] { WritePly(out / "map_points.ply", points); });
@@ -131,14 +135,15 @@ void WriteLiveOutputs(const std::filesystem::path& out, SlamSystem& system, cons
 void WriteFramesCsv(const std::filesystem::path& path, const std::vector<FrameReport>& reports) {
   std::ostringstream csv;
   csv << "index,timestamp,state,features,kept,rejected_geometry,rejected_semantics,rejected_depth,detections,"
-         "carried,followed,detector_late,matches,inliers,trusted,keyframe,map_keyframes,map_points,rss_mib,extract_ms,detector_ms,wait_ms,reject_ms,track_ms,total_ms\n";
+         "carried,followed,detector_late,matches,inliers,trusted,keyframe,map_keyframes,map_points,rss_mib,extract_ms,detector_ms,wait_ms,reject_ms,track_ms,total_ms,predicted,movers,movers_ms\n";
   for (const auto& r : reports) {
     csv << r.index << ',' << FormatTimestamp(r.t) << ',' << ToString(r.state) << ',' << r.features << ',' << r.kept
         << ',' << r.rejected_geometry << ',' << r.rejected_semantics << ',' << r.rejected_depth << ','
         << r.detections << ',' << r.carried << ',' << r.followed << ',' << (r.detector_late ? 1 : 0) << ',' << r.matches << ','
         << r.inliers << ',' << r.trusted << ',' << (r.keyframe ? 1 : 0) << ',' << r.map_keyframes << ','
         << r.map_points << ',' << r.rss_mib << ',' << r.extract_ms << ','
-        << r.detector_ms << ',' << r.wait_ms << ',' << r.reject_ms << ',' << r.track_ms << ',' << r.total_ms << '\n';
+        << r.detector_ms << ',' << r.wait_ms << ',' << r.reject_ms << ',' << r.track_ms << ',' << r.total_ms << ',' << r.predicted << ','
+        << r.movers << ',' << r.movers_ms << '\n';
   }
   WriteFileAtomically(path, csv.str());
 }
@@ -195,6 +200,26 @@ nlohmann::json MedianMsJson(const std::vector<FrameReport>& reports, double medi
           {"reject", MedianOf(reports, &FrameReport::reject_ms)},
           {"track", MedianOf(reports, &FrameReport::track_ms)},
           {"frame", median_frame_ms}};
+}
+
+// stats.json's tracks: the mover tracker's counts and cost (movers/mover_tracker.h).
+nlohmann::json TracksJson(const std::vector<FrameReport>& reports, const movers::MoverTracker& tracker) {
+  const movers::TrackerStats& s = tracker.stats();
+  std::vector<double> ms;
+  double predicted = 0, confirmed = 0;
+  for (const FrameReport& r : reports) {
+    ms.push_back(r.movers_ms);
+    predicted += r.predicted;
+    confirmed += r.movers;
+  }
+  const double n = std::max<double>(1.0, static_cast<double>(reports.size()));
+  return {{"started", s.tracks},
+          {"confirmed", s.confirmed},
+          {"observations", {{"boxes", s.box_observations}, {"clusters", s.cluster_observations}}},
+          {"confirmed_per_frame", confirmed / n},
+          {"predicted_boxes_per_frame", predicted / n},
+          {"median_ms", Median(ms)},
+          {"p95_ms", Percentile(ms, 0.95)}};
 }
 
 nlohmann::json DynamicJson(const std::vector<FrameReport>& reports, const SlamSystem& system) {
@@ -311,6 +336,7 @@ nlohmann::json SystemStatsJson(const Config& config, const RunTotals& totals, co
                           {"dynamic", DynamicJson(reports, system)},
                           {"local_mapping", LocalMappingJson(system)},
                           {"loop", LoopJson(reports, system)}};
+  if (const movers::MoverTracker* tracker = system.mover_tracker()) stats["tracks"] = TracksJson(reports, *tracker);
   if (const auto& gba = system.final_ba(); gba && gba->local_keyframes > 0) {
     spdlog::info("final bundle adjustment: {} keyframes, {} points, {:.2f} s", gba->local_keyframes, gba->local_points,
                  gba->ms / 1000.0);

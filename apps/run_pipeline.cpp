@@ -22,6 +22,7 @@
 #include "sgslam/detection/people_scale.h"
 #include "sgslam/eval/ate.h"
 #include "sgslam/eval/evaluate.h"
+#include "sgslam/eval/track_score.h"
 #include "sgslam/io/frame_stream.h"
 #include "sgslam/io/output_plan.h"
 #include "sgslam/io/trajectory.h"
@@ -250,6 +251,25 @@ void AddAte(const TumDataset& dataset, const Trajectory& trajectory, RunSummary&
   }
 }
 
+// The mover tracks against the sequence's true movers (eval/track_score.h), into
+// tracks["truth"], when it has them and ground truth; a truth that cannot be read
+// costs the scores (warned), not stats.json.
+void AddTrackTruth(const TumDataset& dataset, const CameraConfig& camera, const SlamSystem& system,
+                   const Trajectory& trajectory, nlohmann::json& tracks) {
+  const auto gt_path = dataset.groundtruth_path();
+  if (!gt_path || trajectory.size() < 3) return;
+  try {
+    const std::optional<eval::MoverTruth> truth = eval::LoadMoverTruth(dataset.dir(), camera);
+    if (!truth) return;
+    const eval::TrackScoreOptions options;
+    const eval::TrackScore score =
+        eval::ScoreTracks(*truth, system.MoverTracks(), trajectory, ReadTumTrajectory(*gt_path), options);
+    tracks["truth"] = eval::ToJson(score, options);
+  } catch (const std::exception& e) {
+    spdlog::warn("no scores of the mover tracks against the true movers: {}", e.what());
+  }
+}
+
 // stats.json (but its semantic section and how the run ended: WriteStatsJson), and
 // the summary's counts into s.
 nlohmann::json RunStats(const RunOptions& o, const Config& config, const TumDataset& dataset, const FrameLoop& loop,
@@ -276,6 +296,7 @@ nlohmann::json RunStats(const RunOptions& o, const Config& config, const TumData
     stats["live"] = LiveJson(loop.dropped, loop.latency_ms);
     stats["live"]["every_frame"] = o.every_frame;
   }
+  if (stats.contains("tracks")) AddTrackTruth(dataset, config.camera, system, trajectory, stats["tracks"]);
   if (const auto h = loop.people.median_height()) {
     stats["dynamic"]["people_measured"] = loop.people.measured();
     stats["dynamic"]["people_median_height_m"] = *h;

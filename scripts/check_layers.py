@@ -10,7 +10,7 @@ import sys
 
 # Lowest first. A folder may include the folders before it.
 LAYERS = ["common", "camera", "io", "features", "vocab", "geometry", "optim", "detection", "synth", "map",
-          "matching", "loop", "dynamic", "tracking", "mapping", "semantic", "mapfile", "eval", "config", "system"]
+          "matching", "loop", "dynamic", "movers", "tracking", "mapping", "semantic", "mapfile", "eval", "config", "system"]
 FORBIDDEN = re.compile(r'#include\s*[<"](ros/|rclcpp|httplib|boost/beast|websocketpp|Q[A-Z]\w*|GL/|pangolin)')
 INCLUDE = re.compile(r'#include\s*"sgslam/([a-z_]+)/')
 

@@ -54,6 +54,10 @@ struct DynamicRefinements {
   // again with the second frame's flow; static keypoints join the first keyframe.
   // Off: the boxes' verdict stands.
   bool first_frame_rejudge = true;
+  // R12, geometric and sg: a confirmed mover track (movers/mover_tracker.h) whose
+  // mover no fresh box holds gives Algorithm 1 its predicted box, with its class's w.
+  // Off: the tracks are kept and written, not used for the rejection.
+  bool track_footprints = true;
 
   template <class V>
   void Visit(V&& v) {
@@ -66,6 +70,7 @@ struct DynamicRefinements {
     v("box_area_limit", box_area_limit, "R8: a box over 70 % of the image takes no part in the rejection");
     v("box_carry", box_carry, "R10, sg: a moving box the detector misses is carried up to 8 frames with the flow");
     v("first_frame_rejudge", first_frame_rejudge, "R11, sg: the first frame, judged by its boxes alone, is judged again with the second");
+    v("track_footprints", track_footprints, "R12: a mover track's predicted box takes the place of a box the detector did not give");
   }
 };
 

@@ -5,7 +5,9 @@
 #include <charconv>
 #include <chrono>
 #include <exception>
+#include <map>
 #include <mutex>
+#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 #include <thread>
@@ -32,11 +34,46 @@ std::string FormatSeconds(double s) {
   return std::string(buf, r.ptr);
 }
 
+// A moving object's visible part in one frame (movers.txt).
+struct VisibleMover {
+  int id = 0;
+  int pixels = 0;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // m, world: mean of its visible surface points
+};
+
 struct FrameResult {
   SE3 T_w_c;
   std::vector<Detection> detections;
   double dynamic_fraction = 0;
+  std::vector<VisibleMover> movers;
 };
+
+// The visible part of each moving object: the mean world point of its pixels.
+std::vector<VisibleMover> VisibleMovers(const RenderedFrame& f, const SynthSequence& seq) {
+  std::vector<VisibleMover> out;
+  const Intrinsics& K = seq.intrinsics();
+  for (const SceneObject& o : seq.objects()) {
+    if (!o.info.dynamic) continue;
+    VisibleMover m;
+    m.id = o.info.id;
+    for (int v = 0; v < f.object_id.rows; ++v) {
+      for (int u = 0; u < f.object_id.cols; ++u) {
+        const float z = f.depth.at<float>(v, u);
+        if (f.object_id.at<int>(v, u) != m.id || z <= 0) continue;
+        m.centroid += f.T_w_c * Eigen::Vector3d((u - K.cx) / K.fx * z, (v - K.cy) / K.fy * z, z);
+        ++m.pixels;
+      }
+    }
+    if (m.pixels == 0) continue;
+    m.centroid /= m.pixels;
+    out.push_back(m);
+  }
+  return out;
+}
+
+constexpr char kMoversHeader[] =
+    "# moving objects' visible parts (sgslam synth), world frame = groundtruth.txt's\n"
+    "# timestamp id class visible_px cx cy cz   (centroid: mean of the visible surface points, m)\n";
 
 constexpr char kCameraYamlHeader[] = "# camera of the synthetic sequence written by sgslam synth\n";
 
@@ -53,7 +90,7 @@ void CheckOutputFolder(const fs::path& out, bool force) {
   }
   if (WrittenBySynth(out)) return;
   for (const char* name : {"rgb.txt", "depth.txt", "mask.txt", "associations.txt", "groundtruth.txt", "detections.txt",
-                           "objects_gt.json", "sgslam.yaml", "rgb", "depth", "mask"}) {
+                           "objects_gt.json", "movers.txt", "sgslam.yaml", "rgb", "depth", "mask"}) {
     if (fs::exists(out / name, ec)) {
       throw InputError("synth --force: " + (out / name).string() + " was not written by sgslam synth (" +
                        (out / "sgslam.yaml").string() + " is not synth's); choose another folder");
@@ -81,7 +118,7 @@ FrameResult RenderAndSave(const SynthSequence& seq, int i, const fs::path& out) 
   WritePng(out / "rgb" / name, f.bgr);
   WritePng(out / "depth" / name, f.depth_raw);
   WritePng(out / "mask" / name, f.dynamic_mask);
-  return {f.T_w_c, GroundTruthDetections(f, seq.scene()), f.dynamic_fraction};
+  return {f.T_w_c, GroundTruthDetections(f, seq.scene()), f.dynamic_fraction, VisibleMovers(f, seq)};
 }
 
 // Renders every frame on `threads` workers pulling frame numbers from a counter, or
@@ -170,6 +207,18 @@ void WriteLists(const SynthSequence& seq, const std::vector<FrameResult>& result
   WriteTumTrajectory(out / "groundtruth.txt", groundtruth);
   WriteDetectionsFile(out / "detections.txt", detections);
   WriteFileAtomically(out / "objects_gt.json", ObjectsJson(seq, frames));
+  std::string movers = std::string(kMoversHeader);
+  std::map<int, std::string> classes;
+  for (const SceneObject& o : seq.objects()) classes[o.info.id] = o.info.class_name;
+  for (int i = 0; i < frames; ++i) {
+    for (const VisibleMover& m : results[i].movers) {
+      char buf[160];
+      std::snprintf(buf, sizeof buf, " %d %s %d %.4f %.4f %.4f\n", m.id, classes[m.id].c_str(),
+                    m.pixels, m.centroid.x(), m.centroid.y(), m.centroid.z());
+      movers += FormatTimestamp(seq.timestamp(i)) + buf;
+    }
+  }
+  WriteFileAtomically(out / "movers.txt", movers);
 }
 
 }  // namespace

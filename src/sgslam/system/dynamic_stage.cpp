@@ -7,6 +7,7 @@
 
 #include "sgslam/camera/camera.h"
 #include "sgslam/common/stats.h"
+#include "sgslam/movers/mover_tracker.h"
 
 namespace sgslam {
 
@@ -30,6 +31,10 @@ constexpr double kCarryIou = 0.3;
 // R10: share of a box's keypoints that must show motion of their own (beyond eps_std
 // unweighted, or flagged by the RGB-D check) for it to be carried: not a false box.
 constexpr double kCarryMinMotion = 0.2;
+// R12: w of a track's predicted box when the track has no class (a mover only the
+// geometry found): the least weight of a moving-object class.
+const std::vector<Detection> kNoBoxes;
+constexpr double kUnknownMoverWeight = ClassTable::kMinWeight;
 
 }  // namespace
 
@@ -112,10 +117,16 @@ std::vector<std::uint8_t> DynamicStage::JudgeFirstAgain(const dynamic::FlowFrame
 dynamic::WeightFn DynamicStage::Weight() const {
   // Algorithm 1 weighs a point by the largest w of the boxes holding it (a chair's
   // w = 2 too); semantic mode removes only the boxes of moving-object classes.
+  // A mover track of no class weighs as the least moving class (R12).
   if (mode_ == dynamic::Mode::kSemantic) {
-    return [this](const std::string& name) { return classes_.is_dynamic(name) ? classes_.weight(name) : 1.0; };
+    return [this](const std::string& name) {
+      if (name == movers::kUnknownClass) return kUnknownMoverWeight;
+      return classes_.is_dynamic(name) ? classes_.weight(name) : 1.0;
+    };
   }
-  return [this](const std::string& name) { return classes_.weight(name); };
+  return [this](const std::string& name) {
+    return name == movers::kUnknownClass ? kUnknownMoverWeight : classes_.weight(name);
+  };
 }
 
 dynamic::UndistortPointsFn DynamicStage::Undistort() const {
@@ -140,7 +151,23 @@ dynamic::PairSet DynamicStage::TrackFlow(const std::vector<cv::KeyPoint>& keys, 
 }
 
 void DynamicStage::AwaitDetections(std::uint64_t frame_id, const dynamic::PairSet& pairs, cv::Size image,
-                                   DynamicOutcome& out) {
+                                   const std::vector<Detection>& predicted, DynamicOutcome& out) {
+  AwaitBoxes(frame_id, pairs, image, out);
+  // R12: a track's predicted box where no fresh box of its class holds the mover.
+  const auto fresh = static_cast<std::ptrdiff_t>(out.detections.size()) - out.carried;
+  for (const Detection& p : predicted) {
+    const bool held = std::any_of(out.detections.begin(), out.detections.begin() + fresh, [&](const Detection& d) {
+      return (d.class_name == p.class_name || p.class_name == movers::kUnknownClass) &&
+             dynamic::BoxIou(d.box, p.box) >= kCarryIou;
+    });
+    if (held) continue;
+    out.detections.push_back(p);
+    ++out.carried, ++out.predicted;
+  }
+}
+
+void DynamicStage::AwaitBoxes(std::uint64_t frame_id, const dynamic::PairSet& pairs, cv::Size image,
+                              DynamicOutcome& out) {
   if (!worker_) return;
   if (!submitted_) {  // between detector frames: the last boxes, moved with the flow
     out.followed = true;
@@ -157,6 +184,7 @@ void DynamicStage::AwaitDetections(std::uint64_t frame_id, const dynamic::PairSe
     if (result) {
       out.detections = std::move(result->detections);
       out.detector_ms = result->inference_ms;
+      out.fresh_boxes = true;
     } else {
       out.detector_late = true;  // carry on geometry-only for this frame
     }
@@ -186,9 +214,10 @@ dynamic::RejectionResult DynamicStage::Judge(const dynamic::PairSet& pairs, cons
 }
 
 DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, const cv::Mat& depth_raw,
-                                   const std::vector<cv::KeyPoint>& keys) {
+                                   const std::vector<cv::KeyPoint>& keys, const std::vector<Detection>& predicted) {
   DynamicOutcome out;
   out.dynamic.assign(keys.size(), 0);
+  out.moving.assign(keys.size(), 0);
   if (mode_ == dynamic::Mode::kNone) return out;
 
   const Stopwatch flow_watch;
@@ -196,7 +225,7 @@ DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, 
   dynamic::FlowFrame cur{gray, {}};
   const dynamic::PairSet pairs = TrackFlow(keys, cur);
   const double flow_ms = flow_watch.ElapsedMs();
-  AwaitDetections(frame_id, pairs, gray.size(), out);
+  AwaitDetections(frame_id, pairs, gray.size(), config_.refinements.track_footprints ? predicted : kNoBoxes, out);
 
   const Stopwatch watch;
   if (!first || mode_ == dynamic::Mode::kSemantic || mode_ == dynamic::Mode::kSg) {
@@ -208,6 +237,8 @@ DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, 
     for (std::size_t i = 0; i < keys.size(); ++i) {
       out.dynamic[i] = r.keypoints[i].kept ? 0 : 1;
       out.unjudged[i] = r.keypoints[i].why == dynamic::Why::kUnjudged ? 1 : 0;
+      const dynamic::KeypointVerdict& v = r.keypoints[i];
+      out.moving[i] = v.why == dynamic::Why::kDepth || (std::isfinite(v.distance) && v.distance >= config_.eps_std);
     }
     out.kept = r.kept;
     out.rejected_geometry = r.rejected_geometry;
@@ -217,7 +248,8 @@ DynamicOutcome DynamicStage::Label(std::uint64_t frame_id, const cv::Mat& gray, 
     prior_ = dynamic::MakeDynamicPrior(keys, r, gray.size(), config_.refinements.prior_cells ? kPriorCell : 0,
                                        &prior_, kPriorMemory);
     if (worker_ && config_.refinements.box_carry) {
-      carrier_.Remember(out.detections, ShowMotion(keys, r, out.detections));
+      const std::vector<Detection> own(out.detections.begin(), out.detections.end() - out.predicted);
+      carrier_.Remember(own, ShowMotion(keys, r, own));
     }
   } else {
     out.kept = static_cast<int>(keys.size());

@@ -43,8 +43,14 @@ class Camera;
 struct DynamicOutcome {
   std::vector<std::uint8_t> dynamic;  // per keypoint: 1 = rejected (never tracked nor mapped)
   std::vector<std::uint8_t> unjudged;  // per keypoint: 1 = kept without a geometric test (Why::kUnjudged)
+  // per keypoint: 1 = motion of its own, whatever box holds it: eq. (4) at w = 1
+  // beyond eps_std, or flagged by the RGB-D check (the mover tracker's evidence)
+  std::vector<std::uint8_t> moving;
   std::vector<Detection> detections;  // of this frame (empty without a detector or when late), then the carried ones
   int carried = 0;                    // of detections: missed moving-object boxes carried over (box_carry.h)
+                                      // and the mover tracks' predicted boxes (movers/mover_tracker.h), last
+  int predicted = 0;                  // of carried: the tracks' predicted boxes (R12)
+  bool fresh_boxes = false;           // the detector ran on this frame and its boxes came in time
   int kept = 0, rejected_geometry = 0, rejected_semantics = 0, rejected_depth = 0;
   bool judged = false;        // Algorithm 1 ran (not the first frame, mode not none)
   bool detector_late = false;  // the wait timed out or the frame was dropped
@@ -78,9 +84,11 @@ class DynamicStage {
   void Submit(std::uint64_t frame_id, Timestamp t, const cv::Mat& bgr);
 
   // Labels the keypoints (raw, distorted positions) of the frame just submitted.
-  // depth_raw feeds the RGB-D check (dynamic.refinements.depth_check).
+  // depth_raw feeds the RGB-D check (dynamic.refinements.depth_check). predicted:
+  // the mover tracks' boxes for this frame (R12, dynamic.refinements.track_footprints),
+  // used where no fresh detection of their class holds them.
   DynamicOutcome Label(std::uint64_t frame_id, const cv::Mat& gray, const cv::Mat& depth_raw,
-                       const std::vector<cv::KeyPoint>& keys);
+                       const std::vector<cv::KeyPoint>& keys, const std::vector<Detection>& predicted = {});
 
   DetectionWorkerStats detector_stats() const;
 
@@ -91,7 +99,10 @@ class DynamicStage {
   dynamic::PairSet TrackFlow(const std::vector<cv::KeyPoint>& keys, dynamic::FlowFrame& cur) const;
   // The frame's detections (waited for with the timeout) and the carried boxes of
   // missed movers, into out.
-  void AwaitDetections(std::uint64_t frame_id, const dynamic::PairSet& pairs, cv::Size image, DynamicOutcome& out);
+  void AwaitDetections(std::uint64_t frame_id, const dynamic::PairSet& pairs, cv::Size image,
+                       const std::vector<Detection>& predicted, DynamicOutcome& out);
+  // This frame's detections or the followed ones (stride), then R10's carried boxes.
+  void AwaitBoxes(std::uint64_t frame_id, const dynamic::PairSet& pairs, cv::Size image, DynamicOutcome& out);
   // Algorithm 1 lines 3-14 and the RGB-D check on this frame's pairs.
   dynamic::RejectionResult Judge(const dynamic::PairSet& pairs, const std::vector<cv::KeyPoint>& keys,
                                  const cv::Mat& depth_raw, cv::Size image, bool first,

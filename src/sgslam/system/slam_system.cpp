@@ -71,6 +71,9 @@ SlamSystem::SlamSystem(const Config& config, bool sequential, std::unique_ptr<De
                                                  sequential, MakeKeyFrameDetector(config, dynamic_.has_detector()));
   }
   if (places_) loop_ = std::make_unique<LoopCloser>(map_, places_);
+  if (dynamic_.mode() != dynamic::Mode::kNone) {
+    movers_ = std::make_unique<movers::MoverTracker>(camera_, ClassTable(config.detector));
+  }
   // Local mapping's BA stops for a keyframe that waits (parallel only).
   mapping_.Start(!sequential_, [this](SemanticInput item) {
     MapKeyFrame(std::move(item), [this] { return mapping_.queued() > 0; });
@@ -194,9 +197,16 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
   report.t = images.t;
   const std::uint64_t frame_id = next_frame_id_++;
   dynamic_.Submit(frame_id, images.t, images.bgr);  // the detector works on it while ORB runs (Fig. 1)
-  Frame frame = MakeFrame(frame_id, images, report);
+  std::vector<Detection> predicted;  // the mover tracks' boxes in this frame (R12)
+  const Stopwatch movers_watch;
+  if (movers_ && config_.dynamic.refinements.track_footprints) {
+    if (const std::optional<SE3> T_c_w = tracker_.PredictedPose()) predicted = movers_->Footprints(*T_c_w, images.t);
+  }
+  report.movers_ms = movers_watch.ElapsedMs();
+  Frame frame = MakeFrame(frame_id, images, predicted, report);
   const TrackResult result = Track(frame, report);
   RecordPoses(frame, result);
+  if (movers_) UpdateMovers(frame, result, images, report);
   HandOverKeyFrames(frame, result, images, report);
   // After the keyframe's hand-over: in sequential mode this may complete its box
   // window. Every frame counts towards the window (a lost stretch must not hold
@@ -230,7 +240,49 @@ void SlamSystem::NoteMapSize(FrameReport& report) {
   }
 }
 
-Frame SlamSystem::MakeFrame(std::uint64_t frame_id, const RgbdImages& images, FrameReport& report) {
+void SlamSystem::UpdateMovers(const Frame& frame, const TrackResult& result, const RgbdImages& images,
+                              FrameReport& report) {
+  const Stopwatch watch;
+  const bool recorded = !records_.empty() && records_.back().frame_id == frame.id;
+  if (result.state != TrackState::kOk || !recorded || moving_.size() != frame.size()) {
+    movers_->Skip(frame.t);
+    report.movers_ms += watch.ElapsedMs();
+    return;
+  }
+  movers::FrameInput in;
+  in.t = frame.t;
+  in.T_c_w = frame.T_c_w;
+  in.keys = &frame.features->keys;
+  in.keys_un = &frame.features->keys_un;
+  in.depth = &frame.features->depth;
+  in.moving = &moving_;
+  in.boxes = &frame.features->detections;
+  in.fresh_boxes = fresh_boxes_;
+  in.depth_raw = images.depth;
+  movers_->Update(in);
+  const Eigen::Matrix3d R_c_w = frame.T_c_w.rotation();
+  for (const movers::Track& tr : movers_->tracks()) {
+    track_samples_.push_back({records_.size() - 1, tr.id, tr.class_name, frame.T_c_w * tr.PositionAt(frame.t),
+                              R_c_w * tr.velocity, tr.extent, tr.state});
+    report.movers += tr.state == movers::TrackState::kConfirmed ? 1 : 0;
+  }
+  report.movers_ms += watch.ElapsedMs();
+}
+
+std::vector<movers::TrackLine> SlamSystem::MoverTracks() const {
+  std::shared_lock lock(map_.mutex());
+  std::vector<movers::TrackLine> out;
+  out.reserve(track_samples_.size());
+  for (const TrackSample& s : track_samples_) {
+    const PoseRecord& r = records_[s.record];
+    const SE3 T_w_c = (r.T_c_r * r.reference->PlacedT_c_w()).Inverse();
+    out.push_back({r.t, s.id, s.class_name, T_w_c * s.p_c, T_w_c.rotation() * s.v_c, s.extent, s.state});
+  }
+  return out;
+}
+
+Frame SlamSystem::MakeFrame(std::uint64_t frame_id, const RgbdImages& images, const std::vector<Detection>& predicted,
+                            FrameReport& report) {
   const Stopwatch watch;
   cv::Mat gray;
   cv::cvtColor(images.bgr, gray, cv::COLOR_BGR2GRAY);
@@ -239,7 +291,7 @@ Frame SlamSystem::MakeFrame(std::uint64_t frame_id, const RgbdImages& images, Fr
   extractor_.Extract(gray, keys, descriptors);
   report.extract_ms = watch.ElapsedMs();
 
-  DynamicOutcome dyn = dynamic_.Label(frame_id, gray, images.depth, keys);  // Algorithm 1
+  DynamicOutcome dyn = dynamic_.Label(frame_id, gray, images.depth, keys, predicted);  // Algorithm 1
   report.kept = dyn.judged ? dyn.kept : static_cast<int>(keys.size());
   report.rejected_geometry = dyn.rejected_geometry;
   report.rejected_semantics = dyn.rejected_semantics;
@@ -247,7 +299,10 @@ Frame SlamSystem::MakeFrame(std::uint64_t frame_id, const RgbdImages& images, Fr
   const int boxes = static_cast<int>(dyn.detections.size()) - dyn.carried;
   report.detections = dyn.followed ? 0 : boxes;
   report.followed = dyn.followed ? boxes : 0;
-  report.carried = dyn.carried;
+  report.carried = dyn.carried - dyn.predicted;
+  report.predicted = dyn.predicted;
+  moving_ = std::move(dyn.moving);
+  fresh_boxes_ = dyn.fresh_boxes;
   if (!dyn.followed) report.boxes.assign(dyn.detections.begin(), dyn.detections.end() - dyn.carried);
   report.detector_late = dyn.detector_late;
   report.detector_ms = dyn.detector_ms;

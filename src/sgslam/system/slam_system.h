@@ -29,6 +29,8 @@
 #include "sgslam/mapfile/map_data.h"
 #include "sgslam/mapping/global_ba.h"
 #include "sgslam/mapping/local_mapper.h"
+#include "sgslam/movers/mover_tracker.h"
+#include "sgslam/movers/tracks_file.h"
 #include "sgslam/semantic/semantic_mapper.h"
 #include "sgslam/system/dynamic_stage.h"
 #include "sgslam/system/snapshot.h"
@@ -50,6 +52,9 @@ struct FrameReport {
   int kept = 0, rejected_geometry = 0, rejected_semantics = 0, rejected_depth = 0;
   int detections = 0;
   int carried = 0;               // boxes of missed moving objects carried over (dynamic/box_carry.h)
+  int predicted = 0;             // mover tracks' predicted boxes given to Algorithm 1 (R12)
+  int movers = 0;                // confirmed mover tracks after this frame
+  double movers_ms = 0;          // the mover tracker: the predicted boxes and the update
   int followed = 0;              // between detector frames (detector.stride): the last boxes moved with the flow
   std::vector<Detection> boxes;  // this frame's detections, without the carried (written to detections.txt)
   bool detector_late = false;  // tracking stopped waiting: geometry-only frame
@@ -110,6 +115,11 @@ class SlamSystem {
   std::vector<GlobalBaReport> global_ba_reports() const;
   bool place_recognition() const { return places_ != nullptr; }
   DetectionWorkerStats detector_stats() const { return dynamic_.detector_stats(); }
+  // The mover tracks at every tracked frame, in the frame of FrameTrajectory() (the
+  // map's later corrections applied as to the frame's pose); empty in mode none.
+  std::vector<movers::TrackLine> MoverTracks() const;
+  // Null in mode none.
+  const movers::MoverTracker* mover_tracker() const { return movers_.get(); }
 
   // The semantic map (semantic.enabled), after Finish(): the static dense cloud in
   // the map frame, the objects, the OctoMap. Null / empty when disabled.
@@ -148,7 +158,10 @@ class SlamSystem {
  private:
   // Process's steps: ORB features and Algorithm 1's labels; tracking; the exported
   // poses; the keyframes to local mapping.
-  Frame MakeFrame(std::uint64_t frame_id, const RgbdImages& images, FrameReport& report);
+  Frame MakeFrame(std::uint64_t frame_id, const RgbdImages& images, const std::vector<Detection>& predicted,
+                  FrameReport& report);
+  // The mover tracks after the frame's pose (movers/mover_tracker.h).
+  void UpdateMovers(const Frame& frame, const TrackResult& result, const RgbdImages& images, FrameReport& report);
   // The map's size into the report; at mapping.max_keyframes, localisation only.
   void NoteMapSize(FrameReport& report);
   TrackResult Track(Frame& frame, FrameReport& report);
@@ -189,6 +202,20 @@ class SlamSystem {
     SE3 T_w_c_online;  // the pose as tracking output it, before later map corrections
   };
   std::vector<PoseRecord> records_;
+
+  std::unique_ptr<movers::MoverTracker> movers_;  // mode not none
+  std::vector<std::uint8_t> moving_;              // the last MakeFrame's DynamicOutcome::moving
+  bool fresh_boxes_ = false;                      // and its fresh_boxes
+  // A track at a tracked frame, in that frame's camera frame, so that the map's later
+  // corrections move it with the frame (MoverTracks).
+  struct TrackSample {
+    std::size_t record;  // index in records_
+    int id;
+    std::string class_name;
+    Eigen::Vector3d p_c, v_c, extent;
+    movers::TrackState state;
+  };
+  std::vector<TrackSample> track_samples_;
   std::uint64_t next_frame_id_ = 0;
   std::uint64_t last_keyframe_frame_id_ = 0;  // for the mapping-busy rule (slam_system.cpp)
   std::optional<std::size_t> map_full_at_;     // mapping.max_keyframes reached at this frame

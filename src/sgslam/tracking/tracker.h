@@ -93,6 +93,12 @@ class Tracker {
   void StartInMap() { state_ = TrackState::kLost; }
 
   TrackState state() const { return state_; }
+  // The next frame's pose as the motion model predicts it (the last frame's
+  // without a velocity); none unless tracking is OK.
+  std::optional<SE3> PredictedPose() const {
+    if (state_ != TrackState::kOk || !last_frame_.has_pose) return std::nullopt;
+    return has_velocity_ ? velocity_ * last_frame_.T_c_w : last_frame_.T_c_w;
+  }
   // The camera-frame angular velocity (rad/s) of that prediction, for the rolling
   // shutter correction of the next frame's keypoints; none when there is none.
   std::optional<Eigen::Vector3d> PredictedAngularVelocity() const {

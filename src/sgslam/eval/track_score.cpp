@@ -1,0 +1,299 @@
+#include "sgslam/eval/track_score.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <sstream>
+
+#include <opencv2/imgcodecs.hpp>
+
+#include "sgslam/common/error.h"
+#include "sgslam/common/regular_file.h"
+#include "sgslam/common/stats.h"
+#include "sgslam/eval/ate.h"
+#include "sgslam/eval/evaluate.h"
+#include "sgslam/eval/mask_score.h"
+#include "sgslam/io/text_file.h"
+
+namespace sgslam::eval {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr Timestamp kSameFrame = 1'000'000;    // ns: a truth line within 1 ms is the frame's
+constexpr Timestamp kPoseWindow = 20'000'000;  // ns: ground-truth poses interpolated across at most this gap
+constexpr int kRayStep = 2;                    // px: every second mask pixel in each direction is cast
+
+MoverTruth ReadMoversFile(const fs::path& path, const CameraConfig& camera) {
+  MoverTruth truth;
+  truth.source = path.string();
+  truth.image_pixels = camera.width * camera.height;
+  ForEachDataLine(path, [&](int line, const std::vector<std::string_view>& tok) {
+    if (tok.size() != 7) throw ParseError(path.string(), line, "expected 'timestamp id class visible_px cx cy cz'");
+    const auto t = ParseTimestamp(tok[0]);
+    if (!t) throw ParseError(path.string(), line, "bad timestamp '" + std::string(tok[0]) + "'");
+    TrueMover m;
+    m.id = static_cast<int>(ParseNumber(tok[1], path, line, "id"));
+    m.class_name = std::string(tok[2]);
+    m.pixels = static_cast<int>(ParseNumber(tok[3], path, line, "visible_px"));
+    for (int a = 0; a < 3; ++a) m.centroid[a] = ParseNumber(tok[4 + a], path, line, "centroid");
+    truth.frames[*t].push_back(m);
+  });
+  return truth;
+}
+
+// A mover's shape in its own frame (the generator's dynamic_objects.txt header).
+struct Shape {
+  std::string class_name;
+  bool quad = true;                                    // a person's quad in the x-z plane; else a box
+  double width = 0, height = 0, bottom = 0;            // quad
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();      // box, centred above the origin
+};
+
+std::map<std::string, std::string> KeyValues(const std::string& text) {
+  std::map<std::string, std::string> kv;
+  std::istringstream in(text);
+  std::string word;
+  while (in >> word) {
+    const auto eq = word.find('=');
+    if (eq != std::string::npos) kv[word.substr(0, eq)] = word.substr(eq + 1);
+  }
+  return kv;
+}
+
+// Ray (origin o, direction d, in the shape's frame) to the shape: the ray
+// parameter of the nearest hit in front, or a negative value.
+double Hit(const Shape& s, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
+  if (s.quad) {
+    if (std::abs(d.y()) < 1e-12) return -1;
+    const double k = -o.y() / d.y();
+    const Eigen::Vector3d p = o + k * d;
+    const bool inside = std::abs(p.x()) <= 0.5 * s.width && p.z() >= s.bottom && p.z() <= s.bottom + s.height;
+    return k > 0 && inside ? k : -1;
+  }
+  const Eigen::Vector3d lo(-0.5 * s.size.x(), -0.5 * s.size.y(), 0), hi(0.5 * s.size.x(), 0.5 * s.size.y(), s.size.z());
+  double t0 = 0, t1 = 1e30;
+  for (int a = 0; a < 3; ++a) {
+    if (std::abs(d[a]) < 1e-12) {
+      if (o[a] < lo[a] || o[a] > hi[a]) return -1;
+      continue;
+    }
+    double ta = (lo[a] - o[a]) / d[a], tb = (hi[a] - o[a]) / d[a];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta), t1 = std::min(t1, tb);
+    if (t0 > t1) return -1;
+  }
+  return t0 > 0 ? t0 : -1;
+}
+
+std::optional<SE3> PoseAt(const Trajectory& gt, Timestamp t) {
+  const auto it = std::lower_bound(gt.begin(), gt.end(), t, [](const auto& p, Timestamp x) { return p.t < x; });
+  if (it != gt.end() && it->t == t) return it->T_w_c;
+  if (it == gt.begin() || it == gt.end()) return std::nullopt;
+  const auto& a = *(it - 1);
+  const auto& b = *it;
+  if (b.t - a.t > kPoseWindow) return std::nullopt;
+  const double s = static_cast<double>(t - a.t) / static_cast<double>(b.t - a.t);
+  return SE3(a.T_w_c.quaternion().slerp(s, b.T_w_c.quaternion()),
+             (1 - s) * a.T_w_c.translation() + s * b.T_w_c.translation());
+}
+
+MoverTruth ComputeFromPoses(const fs::path& dir, const CameraConfig& camera) {
+  const fs::path path = dir / "dynamic_objects.txt";
+  MoverTruth truth;
+  truth.source = path.string();
+  truth.image_pixels = camera.width * camera.height;
+  std::map<int, Shape> shapes;
+  std::map<Timestamp, std::map<int, SE3>> poses;  // T_w_o
+  ForEachTextLine(path, "dynamic objects", [&](int line, std::string_view text) {
+    if (text.rfind("# object ", 0) == 0 && text.size() > 9 && std::isdigit(static_cast<unsigned char>(text[9]))) {
+      const std::string rest(text.substr(9));
+      const int id = std::atoi(rest.c_str());
+      const auto kv = KeyValues(rest);
+      Shape s;
+      s.class_name = kv.count("class") ? kv.at("class") : "unknown";
+      try {
+        if (kv.count("box_size")) {
+          s.quad = false;
+          std::istringstream in(kv.at("box_size"));
+          char comma = 0;
+          in >> s.size.x() >> comma >> s.size.y() >> comma >> s.size.z();
+          if (!in) throw ParseError(path.string(), line, "bad box_size");
+        } else {
+          s.width = std::stod(kv.at("width_m"));
+          s.height = std::stod(kv.at("height_m"));
+          s.bottom = kv.count("bottom_offset") ? std::stod(kv.at("bottom_offset")) : 0.0;
+        }
+      } catch (const std::logic_error&) {
+        throw ParseError(path.string(), line, "an object line needs width_m and height_m, or box_size");
+      }
+      shapes[id] = s;
+      return;
+    }
+    if (text.empty() || text[0] == '#') return;
+    std::vector<std::string_view> tok;
+    std::istringstream in{std::string(text)};
+    std::string w;
+    std::vector<std::string> words;
+    while (in >> w) words.push_back(w);
+    for (const auto& x : words) tok.emplace_back(x);
+    if (tok.size() != 9) throw ParseError(path.string(), line, "expected 'timestamp id tx ty tz qx qy qz qw'");
+    const auto t = ParseTimestamp(tok[0]);
+    if (!t) throw ParseError(path.string(), line, "bad timestamp '" + std::string(tok[0]) + "'");
+    double v[8];
+    for (int k = 0; k < 8; ++k) v[k] = ParseNumber(tok[1 + k], path, line, "pose");
+    const int id = static_cast<int>(v[0]);
+    if (!shapes.count(id)) throw ParseError(path.string(), line, "object " + std::to_string(id) + " has no '# object' line");
+    poses[*t][id] = SE3(Eigen::Quaterniond(v[7], v[4], v[5], v[6]), Eigen::Vector3d(v[1], v[2], v[3]));
+  });
+  const Trajectory gt = UniqueStamps(ReadTumTrajectory(dir / "groundtruth.txt"));
+  const MaskIndex masks(dir);
+  for (const auto& [t, objects] : poses) {
+    std::vector<TrueMover>& frame = truth.frames[t];
+    const std::optional<SE3> T_w_c = PoseAt(gt, t);
+    const std::optional<cv::Mat> mask = masks.Load(t);
+    if (!T_w_c || !mask) continue;
+    std::map<int, TrueMover> seen;
+    const Eigen::Vector3d c = T_w_c->translation();
+    const Eigen::Matrix3d R = T_w_c->rotation();
+    std::vector<std::pair<int, SE3>> T_o_w;
+    for (const auto& [id, T] : objects) T_o_w.emplace_back(id, T.Inverse());
+    for (int v = 0; v < mask->rows; v += kRayStep) {
+      for (int u = 0; u < mask->cols; u += kRayStep) {
+        if (mask->at<std::uint8_t>(v, u) == 0) continue;
+        const Eigen::Vector3d d = R * Eigen::Vector3d((u - camera.cx) / camera.fx, (v - camera.cy) / camera.fy, 1.0);
+        int best = -1;
+        double best_k = 1e30;
+        for (const auto& [id, T] : T_o_w) {
+          const double k = Hit(shapes[id], T * c, T.rotation() * d);
+          if (k > 0 && k < best_k) best_k = k, best = id;
+        }
+        if (best < 0) continue;
+        TrueMover& m = seen[best];
+        m.centroid += c + best_k * d;
+        m.pixels += kRayStep * kRayStep;
+      }
+    }
+    for (auto& [id, m] : seen) {
+      m.id = id;
+      m.class_name = shapes[id].class_name;
+      m.centroid /= m.pixels / (kRayStep * kRayStep);
+      frame.push_back(m);
+    }
+  }
+  return truth;
+}
+
+}  // namespace
+
+std::optional<MoverTruth> LoadMoverTruth(const fs::path& dir, const CameraConfig& camera) {
+  if (OptionalRegularFile(dir / "movers.txt", "true movers")) return ReadMoversFile(dir / "movers.txt", camera);
+  if (OptionalRegularFile(dir / "dynamic_objects.txt", "dynamic objects") &&
+      OptionalRegularFile(dir / "groundtruth.txt", "ground truth") && OptionalRegularFile(dir / "mask.txt", "mask list")) {
+    return ComputeFromPoses(dir, camera);
+  }
+  return std::nullopt;
+}
+
+TrackScore ScoreTracks(const MoverTruth& truth, const std::vector<movers::TrackLine>& tracks, const Trajectory& est,
+                       const Trajectory& gt, const TrackScoreOptions& options) {
+  TrackScore score;
+  const Trajectory est_u = UniqueStamps(est), gt_u = UniqueStamps(gt);
+  const SE3 T_gt_est = ComputeAte(gt_u, est_u, kPoseWindow).T_gt_est;
+  std::map<Timestamp, std::vector<const movers::TrackLine*>> by_frame;
+  for (const movers::TrackLine& l : tracks) {
+    if (l.state == movers::TrackState::kConfirmed) by_frame[l.t].push_back(&l);
+  }
+  std::map<int, MoverScore> movers;
+  std::map<int, int> last_track;                     // mover -> the track that last covered it
+  std::map<int, std::pair<int, int>> track_frames;   // confirmed track -> (frames, frames covering a mover)
+  std::vector<double> errors;
+  const double min_pixels = options.min_visible * truth.image_pixels;
+  for (const auto& pose : est_u) {
+    const auto it = truth.frames.lower_bound(pose.t - kSameFrame);
+    if (it == truth.frames.end() || it->first > pose.t + kSameFrame) continue;
+    ++score.frames;
+    const std::vector<TrueMover>& visible = it->second;
+    const auto f = by_frame.find(pose.t);
+    static const std::vector<const movers::TrackLine*> kNone;
+    const std::vector<const movers::TrackLine*>& live = f == by_frame.end() ? kNone : f->second;
+    struct Pair {
+      double d;
+      std::size_t track, mover;
+    };
+    std::vector<Pair> pairs;
+    for (std::size_t k = 0; k < live.size(); ++k) {
+      ++track_frames[live[k]->id].first;
+      const Eigen::Vector3d p = T_gt_est * live[k]->position;
+      for (std::size_t j = 0; j < visible.size(); ++j) {
+        const double d = (p - visible[j].centroid).norm();
+        if (d < options.match_gate) pairs.push_back({d, k, j});
+      }
+    }
+    std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) { return a.d < b.d; });
+    std::vector<bool> track_used(live.size(), false), mover_used(visible.size(), false);
+    std::vector<int> cover(visible.size(), 0);
+    for (const Pair& p : pairs) {
+      if (track_used[p.track] || mover_used[p.mover]) continue;
+      track_used[p.track] = mover_used[p.mover] = true;
+      cover[p.mover] = live[p.track]->id;
+      ++track_frames[live[p.track]->id].second;
+      errors.push_back(p.d);
+    }
+    for (std::size_t j = 0; j < visible.size(); ++j) {
+      MoverScore& m = movers[visible[j].id];
+      m.id = visible[j].id;
+      m.class_name = visible[j].class_name;
+      if (visible[j].pixels >= min_pixels) {
+        ++m.frames_visible;
+        m.frames_covered += cover[j] != 0 ? 1 : 0;
+      }
+      if (cover[j] != 0) {
+        auto last = last_track.find(m.id);
+        if (last != last_track.end() && last->second != cover[j]) ++m.id_switches;
+        last_track[m.id] = cover[j];
+      }
+    }
+  }
+  int visible_total = 0, covered_total = 0;
+  score.min_coverage = 1;
+  for (const auto& [id, m] : movers) {
+    score.movers.push_back(m);
+    visible_total += m.frames_visible;
+    covered_total += m.frames_covered;
+    if (m.frames_visible > 0) score.min_coverage = std::min(score.min_coverage, double(m.frames_covered) / m.frames_visible);
+    score.max_id_switches = std::max(score.max_id_switches, m.id_switches);
+  }
+  score.coverage = visible_total > 0 ? double(covered_total) / visible_total : 0.0;
+  for (const auto& [id, fc] : track_frames) score.false_tracks += 2 * fc.second < fc.first ? 1 : 0;
+  score.false_per_100_frames = score.frames > 0 ? 100.0 * score.false_tracks / score.frames : 0.0;
+  score.matches = static_cast<int>(errors.size());
+  score.median_centroid_error = Median(errors);
+  return score;
+}
+
+nlohmann::json ToJson(const TrackScore& s, const TrackScoreOptions& options) {
+  nlohmann::json movers = nlohmann::json::array();
+  for (const MoverScore& m : s.movers) {
+    movers.push_back({{"id", m.id},
+                      {"class", m.class_name},
+                      {"frames_visible", m.frames_visible},
+                      {"frames_covered", m.frames_covered},
+                      {"coverage", m.frames_visible > 0 ? double(m.frames_covered) / m.frames_visible : 0.0},
+                      {"id_switches", m.id_switches}});
+  }
+  return {{"frames", s.frames},
+          {"match_gate_m", options.match_gate},
+          {"min_visible", options.min_visible},
+          {"coverage", s.coverage},
+          {"min_coverage", s.min_coverage},
+          {"max_id_switches", s.max_id_switches},
+          {"false_tracks", s.false_tracks},
+          {"false_per_100_frames", s.false_per_100_frames},
+          {"median_centroid_error_m", s.median_centroid_error},
+          {"matches", s.matches},
+          {"movers", movers}};
+}
+
+}  // namespace sgslam::eval
