@@ -13,6 +13,7 @@
 #include "sgslam/eval/ate.h"
 #include "sgslam/eval/evaluate.h"
 #include "sgslam/eval/mask_score.h"
+#include "sgslam/io/image_file.h"
 #include "sgslam/io/text_file.h"
 
 namespace sgslam::eval {
@@ -23,7 +24,7 @@ namespace {
 
 constexpr Timestamp kSameFrame = 1'000'000;    // ns: a truth line within 1 ms is the frame's
 constexpr Timestamp kPoseWindow = 20'000'000;  // ns: ground-truth poses interpolated across at most this gap
-constexpr int kRayStep = 2;                    // px: every second mask pixel in each direction is cast
+constexpr int kRayStep = 2;                    // px: every second mask pixel in each direction is used
 
 MoverTruth ReadMoversFile(const fs::path& path, const CameraConfig& camera) {
   MoverTruth truth;
@@ -62,30 +63,10 @@ std::map<std::string, std::string> KeyValues(const std::string& text) {
   return kv;
 }
 
-// Ray (origin o, direction d, in the shape's frame) to the shape: the ray
-// parameter of the nearest hit in front, or a negative value.
-double Hit(const Shape& s, const Eigen::Vector3d& o, const Eigen::Vector3d& d) {
-  if (s.quad) {
-    if (std::abs(d.y()) < 1e-12) return -1;
-    const double k = -o.y() / d.y();
-    const Eigen::Vector3d p = o + k * d;
-    const bool inside = std::abs(p.x()) <= 0.5 * s.width && p.z() >= s.bottom && p.z() <= s.bottom + s.height;
-    return k > 0 && inside ? k : -1;
-  }
-  const Eigen::Vector3d lo(-0.5 * s.size.x(), -0.5 * s.size.y(), 0), hi(0.5 * s.size.x(), 0.5 * s.size.y(), s.size.z());
-  double t0 = 0, t1 = 1e30;
-  for (int a = 0; a < 3; ++a) {
-    if (std::abs(d[a]) < 1e-12) {
-      if (o[a] < lo[a] || o[a] > hi[a]) return -1;
-      continue;
-    }
-    double ta = (lo[a] - o[a]) / d[a], tb = (hi[a] - o[a]) / d[a];
-    if (ta > tb) std::swap(ta, tb);
-    t0 = std::max(t0, ta), t1 = std::min(t1, tb);
-    if (t0 > t1) return -1;
-  }
-  return t0 > 0 ? t0 : -1;
-}
+// m: how far from its vertical axis a point of the shape can be (a quad turns
+// about it; the box spins), plus the depth noise.
+constexpr double kSlack = 0.15;
+double Reach(const Shape& s) { return (s.quad ? 0.5 * s.width : 0.5 * s.size.head<2>().norm()) + kSlack; }
 
 std::optional<SE3> PoseAt(const Trajectory& gt, Timestamp t) {
   const auto it = std::lower_bound(gt.begin(), gt.end(), t, [](const auto& p, Timestamp x) { return p.t < x; });
@@ -149,29 +130,41 @@ MoverTruth ComputeFromPoses(const fs::path& dir, const CameraConfig& camera) {
   });
   const Trajectory gt = UniqueStamps(ReadTumTrajectory(dir / "groundtruth.txt"));
   const MaskIndex masks(dir);
+  std::map<Timestamp, fs::path> depth_files;  // by RGB time
+  ForEachDataLine(dir / "associations.txt", [&](int line, const std::vector<std::string_view>& tok) {
+    const auto t = tok.size() >= 4 ? ParseTimestamp(tok[0]) : std::nullopt;
+    if (!t) throw ParseError((dir / "associations.txt").string(), line, "expected 'timestamp rgb timestamp depth'");
+    depth_files[*t] = dir / std::string(tok[3]);
+  });
   for (const auto& [t, objects] : poses) {
     std::vector<TrueMover>& frame = truth.frames[t];
     const std::optional<SE3> T_w_c = PoseAt(gt, t);
     const std::optional<cv::Mat> mask = masks.Load(t);
-    if (!T_w_c || !mask) continue;
+    const auto depth_file = depth_files.find(t);
+    if (!T_w_c || !mask || depth_file == depth_files.end()) continue;
+    const cv::Mat depth = ReadImageFile(depth_file->second, "depth image", cv::IMREAD_UNCHANGED, kMaxNamedImageBytes,
+                                        kMaxNamedImagePixels);
+    if (depth.type() != CV_16U || depth.size() != mask->size()) {
+      throw InputError("depth image " + depth_file->second.string() + ": not 16-bit or not the mask's size");
+    }
     std::map<int, TrueMover> seen;
-    const Eigen::Vector3d c = T_w_c->translation();
-    const Eigen::Matrix3d R = T_w_c->rotation();
-    std::vector<std::pair<int, SE3>> T_o_w;
-    for (const auto& [id, T] : objects) T_o_w.emplace_back(id, T.Inverse());
     for (int v = 0; v < mask->rows; v += kRayStep) {
       for (int u = 0; u < mask->cols; u += kRayStep) {
-        if (mask->at<std::uint8_t>(v, u) == 0) continue;
-        const Eigen::Vector3d d = R * Eigen::Vector3d((u - camera.cx) / camera.fx, (v - camera.cy) / camera.fy, 1.0);
+        const double z = depth.at<std::uint16_t>(v, u) / camera.depth_factor;
+        if (mask->at<std::uint8_t>(v, u) == 0 || z <= 0) continue;
+        const Eigen::Vector3d p = *T_w_c * Eigen::Vector3d((u - camera.cx) / camera.fx * z, (v - camera.cy) / camera.fy * z, z);
         int best = -1;
-        double best_k = 1e30;
-        for (const auto& [id, T] : T_o_w) {
-          const double k = Hit(shapes[id], T * c, T.rotation() * d);
-          if (k > 0 && k < best_k) best_k = k, best = id;
+        double best_d = 1e30;
+        for (const auto& [id, T] : objects) {
+          const Shape& shape = shapes[id];
+          const Eigen::Vector3d o = T.translation();
+          const double d = (p - o).head<2>().norm();
+          const double top = shape.quad ? shape.bottom + shape.height : shape.size.z();
+          if (d < Reach(shape) && p.z() > o.z() - kSlack && p.z() < o.z() + top + kSlack && d < best_d) best_d = d, best = id;
         }
         if (best < 0) continue;
         TrueMover& m = seen[best];
-        m.centroid += c + best_k * d;
+        m.centroid += p;
         m.pixels += kRayStep * kRayStep;
       }
     }
@@ -231,7 +224,16 @@ TrackScore ScoreTracks(const MoverTruth& truth, const std::vector<movers::TrackL
         if (d < options.match_gate) pairs.push_back({d, k, j});
       }
     }
-    std::sort(pairs.begin(), pairs.end(), [](const Pair& a, const Pair& b) { return a.d < b.d; });
+    // CLEAR MOT's rule: a mover keeps the track that covered it last while that track
+    // stays within the gate; the rest go nearest pair first.
+    std::sort(pairs.begin(), pairs.end(), [&](const Pair& a, const Pair& b) {
+      const auto kept = [&](const Pair& p) {
+        const auto last = last_track.find(visible[p.mover].id);
+        return last != last_track.end() && last->second == live[p.track]->id;
+      };
+      if (kept(a) != kept(b)) return kept(a);
+      return a.d < b.d;
+    });
     std::vector<bool> track_used(live.size(), false), mover_used(visible.size(), false);
     std::vector<int> cover(visible.size(), 0);
     for (const Pair& p : pairs) {
@@ -240,6 +242,7 @@ TrackScore ScoreTracks(const MoverTruth& truth, const std::vector<movers::TrackL
       cover[p.mover] = live[p.track]->id;
       ++track_frames[live[p.track]->id].second;
       errors.push_back(p.d);
+      if (getenv("SG_TRACK_DEBUG")) { const Eigen::Vector3d q = T_gt_est * live[p.track]->position; fprintf(stderr, "M %d T %d d %.3f dz %.3f truth %.2f %.2f %.2f est %.2f %.2f %.2f ext %.2f %.2f %.2f\n", visible[p.mover].id, live[p.track]->id, p.d, q.z()-visible[p.mover].centroid.z(), visible[p.mover].centroid.x(), visible[p.mover].centroid.y(), visible[p.mover].centroid.z(), q.x(), q.y(), q.z(), live[p.track]->extent.x(), live[p.track]->extent.y(), live[p.track]->extent.z()); }
     }
     for (std::size_t j = 0; j < visible.size(); ++j) {
       MoverScore& m = movers[visible[j].id];
@@ -249,9 +252,16 @@ TrackScore ScoreTracks(const MoverTruth& truth, const std::vector<movers::TrackL
         ++m.frames_visible;
         m.frames_covered += cover[j] != 0 ? 1 : 0;
       }
+      if (getenv("SG_TRACK_DEBUG")) fprintf(stderr, "%s mover %d px %d cover %d\n", FormatTimestamp(pose.t).c_str(), visible[j].id, visible[j].pixels, cover[j]);
       if (cover[j] != 0) {
         auto last = last_track.find(m.id);
-        if (last != last_track.end() && last->second != cover[j]) ++m.id_switches;
+        if (last != last_track.end() && last->second != cover[j]) {
+          ++m.id_switches;
+          if (getenv("SG_TRACK_DEBUG")) {
+            double dd = -1; for (const auto* l : live) if (l->id == last->second) dd = (T_gt_est * l->position - visible[j].centroid).norm();
+            fprintf(stderr, "SWITCH mover %d %d->%d old_dist %.2f px %d\n", m.id, last->second, cover[j], dd, visible[j].pixels);
+          }
+        }
         last_track[m.id] = cover[j];
       }
     }

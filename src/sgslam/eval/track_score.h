@@ -3,14 +3,18 @@
 //   movers.txt (sgslam synth): per frame, each visible mover's pixels and the mean
 //     world point of its visible surface;
 //   dynamic_objects.txt (the composite generator, e.g. dyn_dev): each mover's world
-//     pose and shape; the visible part is computed here: every moving pixel of the
-//     frame's mask is cast as a ray from the true camera (pinhole: the generator
-//     draws the movers without lens distortion) onto the movers' shapes (a person's
-//     planar quad, a box's cuboid); the nearest hit names its mover, and the mean of
-//     a mover's hits is the centre of its visible part.
+//     position and size (its orientations are not usable: dyn_dev's are all the
+//     same); the visible part is computed here: every moving pixel of the frame's
+//     mask is lifted with its depth (the mover's: the mask marks where it is nearer
+//     than the scene) from the true camera (pinhole: the generator draws the
+//     movers without lens distortion) and given to the mover whose vertical axis is
+//     nearest within its reach (a person's half width, a box's half diagonal, plus
+//     0.15 m); the mean of a mover's points is the centre of its visible part.
 // The track centroids are brought into the truth's world with the ATE alignment of
 // the run's trajectory, then matched per frame to the visible movers (confirmed
-// tracks only, nearest pair first within kMatchGate).
+// tracks only, within match_gate): as CLEAR MOT does, a mover keeps the track that
+// covered it last while it stays within the gate, the rest go nearest pair first.
+// An id switch is a change of the covering track.
 #pragma once
 
 #include <filesystem>

@@ -23,6 +23,7 @@ constexpr double kClusterDepth = 0.3;   // m, and at most this far apart in dept
 constexpr std::size_t kMinClusterSize = 5;
 constexpr float kBoxMargin = 0.15f;  // share of a box's size around it whose keypoints seed no cluster
 constexpr float kClusterMargin = 8.f;  // px around the cluster's keypoints for its depth samples
+constexpr double kMinFrontDepth = 0.1;  // m, nearer a point is not projected
 // Association and motion (steps 2-3).
 constexpr double kGate = 0.6;             // m, base gate around a track's predicted centroid
 constexpr double kMaxGateGrowth = 0.6;    // m, plus speed * time since the last observation, at most this
@@ -44,7 +45,6 @@ constexpr double kForget = 1.0;        // s without an observation: forgotten
 constexpr double kPredictFor = 0.5;  // s since the last observation a footprint is still predicted
 constexpr float kFootprintMargin = 6.f;  // px around the projected points
 constexpr int kMinFootprintPoints = 5;
-constexpr double kMinFrontDepth = 0.1;  // m
 
 double Median(std::vector<double> v) {
   if (v.empty()) return 0;
@@ -115,8 +115,14 @@ Eigen::Vector3d FitVelocity(const std::deque<std::pair<Timestamp, Eigen::Vector3
   return v;
 }
 
+// A class-less observation (a cluster: often a part of a mover) updates only a
+// class-less track; a box updates a track of its class or names a class-less one.
 bool Compatible(const std::string& track_class, const std::string& obs_class) {
-  return obs_class == kUnknownClass || track_class == kUnknownClass || track_class == obs_class;
+  return track_class == kUnknownClass || track_class == obs_class;
+}
+
+bool SameMover(const std::string& a, const std::string& b) {
+  return a == kUnknownClass || b == kUnknownClass || a == b;
 }
 
 }  // namespace
@@ -165,6 +171,26 @@ bool MoverTracker::SegmentBox(const cv::Mat& depth_raw, const cv::Rect2f& box_in
   return true;
 }
 
+bool MoverTracker::BoxObservation(const FrameInput& in, int box, double seed_depth, Observation& o) const {
+  const Detection& d = (*in.boxes)[static_cast<std::size_t>(box)];
+  o.class_name = d.class_name;
+  o.box = d.box;
+  o.source = box;
+  if (!SegmentBox(in.depth_raw, d.box, seed_depth, in.T_c_w.Inverse(), o)) return false;
+  // Evidence: the keypoints on the mover (in its depth band) that moved on their own.
+  const std::vector<float>& depth = *in.depth;
+  const std::vector<std::uint8_t>& moving = *in.moving;
+  const double z0 = (in.T_c_w * o.centroid).z();
+  int on = 0, moved = 0;
+  for (std::size_t i = 0; i < in.keys->size(); ++i) {
+    if (!d.box.contains((*in.keys)[i].pt) || depth[i] <= 0 || std::abs(depth[i] - z0) > 2 * kBand) continue;
+    ++on;
+    moved += i < moving.size() && moving[i] != 0 ? 1 : 0;
+  }
+  o.moving = moved >= kMinMovingKeypoints && moved >= kMinMovingShare * on;
+  return true;
+}
+
 std::vector<Observation> MoverTracker::Observe(const FrameInput& in) const {
   std::vector<Observation> obs;
   const std::vector<cv::KeyPoint>& keys = *in.keys;
@@ -173,32 +199,19 @@ std::vector<Observation> MoverTracker::Observe(const FrameInput& in) const {
   const SE3 T_w_c = in.T_c_w.Inverse();
   auto is_moving = [&](std::size_t i) { return i < moving.size() && moving[i] != 0 && depth[i] > 0; };
 
-  // Fresh boxes of moving-object classes.
+  // Fresh boxes of moving-object classes are observations. Every box of such a
+  // class (followed between detector frames, carried, predicted) holds its mover's
+  // moving keypoints and the uncovered background at its edges: no cluster there.
   std::vector<std::uint8_t> in_box(keys.size(), 0);
-  if (in.fresh_boxes && in.boxes) {
-    for (const Detection& d : *in.boxes) {
-      if (d.carried > 0 || !classes_.is_dynamic(d.class_name)) continue;
-      std::vector<std::size_t> inside;
-      const cv::Rect2f near = Grow(d.box, kBoxMargin);
-      for (std::size_t i = 0; i < keys.size(); ++i) {
-        if (near.contains(keys[i].pt)) in_box[i] = 1;  // the uncovered background at its edges is no cluster
-        if (d.box.contains(keys[i].pt)) inside.push_back(i);
-      }
-      Observation o;
-      o.class_name = d.class_name;
-      o.box = d.box;
-      if (!SegmentBox(in.depth_raw, d.box, 0.0, T_w_c, o)) continue;
-      // Evidence: the keypoints on the mover (in its depth band) that moved on their own.
-      const double z0 = (in.T_c_w * o.centroid).z();
-      int on = 0, moved = 0;
-      for (const std::size_t i : inside) {
-        if (depth[i] <= 0 || std::abs(depth[i] - z0) > 2 * kBand) continue;
-        ++on;
-        moved += is_moving(i) ? 1 : 0;
-      }
-      o.moving = moved >= kMinMovingKeypoints && moved >= kMinMovingShare * on;
-      obs.push_back(std::move(o));
+  for (std::size_t b = 0; in.boxes && b < in.boxes->size(); ++b) {
+    const Detection& d = (*in.boxes)[b];
+    if (!classes_.is_dynamic(d.class_name)) continue;
+    const cv::Rect2f near = Grow(d.box, kBoxMargin);
+    for (std::size_t i = 0; i < keys.size(); ++i) {
+      if (near.contains(keys[i].pt)) in_box[i] = 1;
     }
+    Observation o;
+    if (in.fresh_boxes && d.carried == 0 && BoxObservation(in, static_cast<int>(b), 0.0, o)) obs.push_back(std::move(o));
   }
 
   // Clusters of moving keypoints outside those boxes (single linkage in the image and in depth).
@@ -243,7 +256,26 @@ void MoverTracker::Update(const FrameInput& in) {
     ++stats_.observations;
     ++(o.class_name == kUnknownClass ? stats_.cluster_observations : stats_.box_observations);
   }
-  // Step 2: nearest compatible pairs first.
+  // A box a track is predicted in is also cut at the track's depth: a mover partly
+  // hidden by a nearer one has its box's foreground on the other.
+  const std::size_t observed = obs.size();
+  for (std::size_t k = 0; k < tracks_.size(); ++k) {
+    const Eigen::Vector3d p = in.T_c_w * tracks_[k].PositionAt(in.t);
+    if (p.z() < kMinFrontDepth) continue;
+    const Eigen::Vector2d uv = camera_->has_distortion() ? camera_->Distort(camera_->Project(p)) : camera_->Project(p);
+    for (std::size_t j = 0; j < observed; ++j) {
+      if (obs[j].source < 0 || !Compatible(tracks_[k].class_name, obs[j].class_name) ||
+          !obs[j].box.contains(cv::Point2f(static_cast<float>(uv.x()), static_cast<float>(uv.y()))) ||
+          std::abs((in.T_c_w * obs[j].centroid).z() - p.z()) < kBand) {
+        continue;
+      }
+      Observation o;
+      if (!BoxObservation(in, obs[j].source, p.z(), o)) continue;
+      o.guided = static_cast<int>(k);
+      obs.push_back(std::move(o));
+    }
+  }
+  // Step 2: nearest compatible pairs first; a box observes one mover.
   struct Pair {
     double d;
     std::size_t track, obs;
@@ -252,10 +284,12 @@ void MoverTracker::Update(const FrameInput& in) {
   for (std::size_t k = 0; k < tracks_.size(); ++k) {
     const Track& tr = tracks_[k];
     const double dt = ToSeconds(in.t - tr.updated);
-    const double gate = kGate + std::min(kMaxGateGrowth, tr.velocity.norm() * dt);
+    const double gate = kGate + std::min(kMaxGateGrowth, tr.velocity.norm() * std::min(dt, Track::kHorizon));
     const Eigen::Vector3d predicted = tr.PositionAt(in.t);
     for (std::size_t j = 0; j < obs.size(); ++j) {
-      if (!Compatible(tr.class_name, obs[j].class_name)) continue;
+      if (!Compatible(tr.class_name, obs[j].class_name) || (obs[j].guided >= 0 && obs[j].guided != static_cast<int>(k))) {
+        continue;
+      }
       const double d = (obs[j].centroid - predicted).norm();
       if (d < gate) pairs.push_back({d, k, j});
     }
@@ -266,6 +300,12 @@ void MoverTracker::Update(const FrameInput& in) {
   for (const Pair& p : pairs) {
     if (track_taken[p.track] || obs_taken[p.obs]) continue;
     track_taken[p.track] = obs_taken[p.obs] = true;
+    // Nothing else of that box, nor another view of that mover (the foreground of a
+    // box it hides part of), observes another track.
+    for (std::size_t j = 0; j < obs.size(); ++j) {
+      const bool same_box = obs[p.obs].source >= 0 && obs[j].source == obs[p.obs].source;
+      obs_taken[j] = obs_taken[j] || same_box || (obs[j].centroid - obs[p.obs].centroid).norm() < kMerge;
+    }
     // Step 3.
     Track& tr = tracks_[p.track];
     const Observation& o = obs[p.obs];
@@ -292,11 +332,11 @@ void MoverTracker::Update(const FrameInput& in) {
     }
   }
   // New tracks from what is left, unless it is a piece of a mover already tracked.
-  for (std::size_t j = 0; j < obs.size(); ++j) {
+  for (std::size_t j = 0; j < observed; ++j) {
     if (obs_taken[j]) continue;
     const Observation& o = obs[j];
     const bool absorbed = o.class_name == kUnknownClass && std::any_of(tracks_.begin(), tracks_.end(), [&](const Track& tr) {
-      return tr.observed && (tr.position - o.centroid).norm() < kAbsorb;
+      return (tr.observed || tr.state != TrackState::kTentative) && (tr.PositionAt(in.t) - o.centroid).norm() < kAbsorb;
     });
     if (absorbed) continue;
     Track tr;
@@ -325,7 +365,11 @@ void MoverTracker::MergeDuplicates() {
     for (std::size_t b = a + 1; b < tracks_.size() && !gone[a]; ++b) {
       Track& ta = tracks_[a];
       Track& tb = tracks_[b];
-      if (gone[b] || !Compatible(ta.class_name, tb.class_name) || (ta.position - tb.position).norm() >= kMerge) continue;
+      // Two confirmed tracks near each other are two movers passing.
+      const bool both = ta.state != TrackState::kTentative && tb.state != TrackState::kTentative;
+      if (gone[b] || both || !SameMover(ta.class_name, tb.class_name) || (ta.position - tb.position).norm() >= kMerge) {
+        continue;
+      }
       const auto rank = [](const Track& t) { return std::make_pair(t.state != TrackState::kTentative, t.hits); };
       const bool keep_a = rank(ta) >= rank(tb);
       Track& keep = keep_a ? ta : tb;

@@ -25,6 +25,7 @@
 // the depth samples of a few boxes: a fraction of a millisecond).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <deque>
 #include <memory>
@@ -55,6 +56,8 @@ struct Observation {
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // mean of points
   Eigen::Vector3d extent = Eigen::Vector3d::Zero();    // m, per map axis: the 10-90 % range of points
   bool moving = false;  // showed motion of its own (a cluster always; a box: kMinMovingShare of its keypoints)
+  int source = -1;      // the box's index in FrameInput::boxes; -1 for a cluster
+  int guided = -1;      // cut at this track's predicted depth, for it alone; -1: the box's foreground
 };
 
 struct Track {
@@ -71,7 +74,12 @@ struct Track {
   bool observed = false;                               // in the last Update
   std::deque<std::pair<Timestamp, Eigen::Vector3d>> history;  // the last observed centroids
 
-  Eigen::Vector3d PositionAt(Timestamp t) const { return position + velocity * ToSeconds(t - updated); }
+  // The constant-velocity prediction, for at most kHorizon after the last
+  // observation: a velocity fitted on a partly seen mover is not to be followed far.
+  static constexpr double kHorizon = 0.2;  // s
+  Eigen::Vector3d PositionAt(Timestamp t) const {
+    return position + velocity * std::min(kHorizon, ToSeconds(t - updated));
+  }
 };
 
 // What a frame gives the tracker. keys: raw keypoints; depth: m per keypoint
@@ -119,6 +127,8 @@ class MoverTracker {
   std::vector<Observation> Observe(const FrameInput& in) const;
 
  private:
+  // The mover in box `box` of in.boxes at seed_depth (0: the box's foreground).
+  bool BoxObservation(const FrameInput& in, int box, double seed_depth, Observation& o) const;
   bool SegmentBox(const cv::Mat& depth_raw, const cv::Rect2f& box, double seed_depth, const SE3& T_w_c,
                   Observation& out) const;
   void MergeDuplicates();
