@@ -9,9 +9,9 @@
 //     clusters of moving keypoints outside those boxes (ClusterMovingKeypoints);
 //   2 association in 3-D: each observation to the nearest compatible track's
 //     predicted centroid within kGate (greedy, nearest pair first);
-//   3 a constant-velocity model in the map frame: the centroid filtered toward
-//     each observation, the velocity the slope over the last kVelocityWindow
-//     observations;
+//   3 a constant-velocity model in the map frame: the centroid is the last
+//     observation's, the velocity the least-squares slope over the last
+//     kVelocityWindow observations, followed for at most Track::kHorizon;
 //   4 states: tentative until kConfirmHits observations of which kConfirmEvidence
 //     showed motion of their own (a person sitting still stays tentative);
 //     confirmed while observed or coasting (kCoast); lost after that, still
