@@ -137,11 +137,12 @@ MoverTruth ComputeFromPoses(const fs::path& dir, const CameraConfig& camera) {
     depth_files[*t] = dir / std::string(tok[3]);
   });
   for (const auto& [t, objects] : poses) {
-    std::vector<TrueMover>& frame = truth.frames[t];
+    const auto depth_file = depth_files.find(t);
+    if (depth_file == depth_files.end()) continue;  // not a frame of the sequence
     const std::optional<SE3> T_w_c = PoseAt(gt, t);
     const std::optional<cv::Mat> mask = masks.Load(t);
-    const auto depth_file = depth_files.find(t);
-    if (!T_w_c || !mask || depth_file == depth_files.end()) continue;
+    if (!T_w_c || !mask) continue;
+    std::vector<TrueMover>& frame = truth.frames[t];
     const cv::Mat depth = ReadImageFile(depth_file->second, "depth image", cv::IMREAD_UNCHANGED, kMaxNamedImageBytes,
                                         kMaxNamedImagePixels);
     if (depth.type() != CV_16U || depth.size() != mask->size()) {
@@ -242,7 +243,6 @@ TrackScore ScoreTracks(const MoverTruth& truth, const std::vector<movers::TrackL
       cover[p.mover] = live[p.track]->id;
       ++track_frames[live[p.track]->id].second;
       errors.push_back(p.d);
-      if (getenv("SG_TRACK_DEBUG")) { const Eigen::Vector3d q = T_gt_est * live[p.track]->position; fprintf(stderr, "M %d T %d d %.3f dz %.3f truth %.2f %.2f %.2f est %.2f %.2f %.2f ext %.2f %.2f %.2f\n", visible[p.mover].id, live[p.track]->id, p.d, q.z()-visible[p.mover].centroid.z(), visible[p.mover].centroid.x(), visible[p.mover].centroid.y(), visible[p.mover].centroid.z(), q.x(), q.y(), q.z(), live[p.track]->extent.x(), live[p.track]->extent.y(), live[p.track]->extent.z()); }
     }
     for (std::size_t j = 0; j < visible.size(); ++j) {
       MoverScore& m = movers[visible[j].id];
@@ -252,16 +252,9 @@ TrackScore ScoreTracks(const MoverTruth& truth, const std::vector<movers::TrackL
         ++m.frames_visible;
         m.frames_covered += cover[j] != 0 ? 1 : 0;
       }
-      if (getenv("SG_TRACK_DEBUG")) fprintf(stderr, "%s mover %d px %d cover %d\n", FormatTimestamp(pose.t).c_str(), visible[j].id, visible[j].pixels, cover[j]);
       if (cover[j] != 0) {
         auto last = last_track.find(m.id);
-        if (last != last_track.end() && last->second != cover[j]) {
-          ++m.id_switches;
-          if (getenv("SG_TRACK_DEBUG")) {
-            double dd = -1; for (const auto* l : live) if (l->id == last->second) dd = (T_gt_est * l->position - visible[j].centroid).norm();
-            fprintf(stderr, "SWITCH mover %d %d->%d old_dist %.2f px %d\n", m.id, last->second, cover[j], dd, visible[j].pixels);
-          }
-        }
+        if (last != last_track.end() && last->second != cover[j]) ++m.id_switches;
         last_track[m.id] = cover[j];
       }
     }

@@ -454,6 +454,11 @@ void SlamSystem::PublishFrame(const Frame& frame, const RgbdImages& images, cons
     }
   }
   s->detections = frame.features->detections;
+  if (movers_ && report.state == TrackState::kOk) {
+    for (const movers::Track& tr : movers_->tracks()) {
+      s->movers.push_back({tr.id, tr.class_name, tr.state, tr.PositionAt(frame.t), tr.velocity, tr.extent});
+    }
+  }
   s->keyframe = report.keyframe;
   s->frame_ms = report.total_ms;
   std::lock_guard lock(frame_snapshot_mutex_);

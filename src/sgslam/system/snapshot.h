@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -16,11 +17,22 @@
 #include "sgslam/common/se3.h"
 #include "sgslam/common/time.h"
 #include "sgslam/detection/detection.h"
+#include "sgslam/movers/mover_tracker.h"
 #include "sgslam/semantic/cloud.h"
 #include "sgslam/semantic/objects.h"
 #include "sgslam/tracking/tracker.h"
 
 namespace sgslam {
+
+// A mover track as of a frame (movers/mover_tracker.h), world (map) frame.
+struct MoverSnapshot {
+  int id = 0;
+  std::string class_name;  // a COCO name or "unknown"
+  movers::TrackState state = movers::TrackState::kTentative;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();  // m, the centroid
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  // m/s
+  Eigen::Vector3d extent = Eigen::Vector3d::Zero();    // m, along the map axes
+};
 
 // The frame tracking finished last, with what the rejection made of it.
 struct FrameSnapshot {
@@ -34,6 +46,7 @@ struct FrameSnapshot {
   std::vector<cv::Point2f> keypoints;   // px, raw (distorted) positions
   std::vector<std::uint8_t> labels;     // per keypoint, Label
   std::vector<Detection> detections;    // this frame's boxes, then those carried over missed detections
+  std::vector<MoverSnapshot> movers;    // the mover tracks after this frame (none when it was not tracked)
   bool keyframe = false;                // a keyframe was made of it
   double frame_ms = 0;                  // the frame's time on the tracking thread
 };
