@@ -83,6 +83,7 @@ SlamNode::SlamNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, NodeOptions
   cloud_pub_ = private_nh.advertise<sensor_msgs::PointCloud2>("cloud", 1, true);
   objects_pub_ = private_nh.advertise<visualization_msgs::MarkerArray>("objects", 1, true);
   cells_pub_ = private_nh.advertise<visualization_msgs::Marker>("octomap_cells", 1, true);
+  movers_pub_ = private_nh.advertise<visualization_msgs::MarkerArray>("movers", 10);
   image_pub_ = private_nh.advertise<sensor_msgs::Image>("image", 2);
   save_srv_ = private_nh.advertiseService("save", &SlamNode::OnSave, this);
   if (!options_.world_frame.empty()) {
@@ -325,6 +326,12 @@ void SlamNode::PublishFrame(const FrameSnapshot& f) {
       path_pub_.publish(path_);
       last_path_ = Clock::now();
     }
+  }
+  // A frame without a pose has no tracks: their trails wait for the next one. Its
+  // markers, the DELETEALL alone, clear the tracks, whose place is not known then.
+  if (f.T_w_c) trails_.Update(f.movers, f.t);
+  if (movers_pub_.getNumSubscribers() > 0) {
+    movers_pub_.publish(MoverMarkers(f.movers, trails_, options_.map_frame, stamp));
   }
   if (image_pub_.getNumSubscribers() > 0 && !f.bgr.empty()) image_pub_.publish(AnnotatedImage(f, options_.camera_frame));
 }

@@ -1,6 +1,6 @@
 // The ROS 1 node: colour and depth topics in (synchronised by timestamp), the same
-// system as `sgslam run` in the middle, and the pose, maps, objects and annotated
-// image out, for Rviz. docs/ros.md is the user's guide.
+// system as `sgslam run` in the middle, and the pose, maps, objects, mover tracks
+// and annotated image out, for Rviz. docs/ros.md is the user's guide.
 #pragma once
 
 #include <atomic>
@@ -26,6 +26,7 @@
 #include <tf2_ros/static_transform_broadcaster.h>
 #include <tf2_ros/transform_broadcaster.h>
 
+#include "ros_messages.h"
 #include "sgslam/common/bounded_queue.h"
 #include "slam_runner.h"
 
@@ -95,7 +96,7 @@ class SlamNode {
   std::unique_ptr<message_filters::Synchronizer<Policy>> sync_;
   ros::Subscriber info_sub_;
   bool use_info_ = false;  // camera_info subscribed (set before any callback)
-  ros::Publisher odom_pub_, path_pub_, points_pub_, cloud_pub_, objects_pub_, cells_pub_, image_pub_;
+  ros::Publisher odom_pub_, path_pub_, points_pub_, cloud_pub_, objects_pub_, cells_pub_, movers_pub_, image_pub_;
   ros::ServiceServer save_srv_;
   tf2_ros::TransformBroadcaster tf_;
   tf2_ros::StaticTransformBroadcaster static_tf_;
@@ -114,6 +115,7 @@ class SlamNode {
   std::unique_ptr<SlamRunner> runner_;
   std::vector<double> latency_ms_;
   nav_msgs::Path path_;
+  MoverTrails trails_;
   // What the maps last published held: they go out again only when this changes.
   std::size_t published_keyframes_ = 0, published_pieces_ = 0;
   const void* published_cells_ = nullptr;

@@ -46,6 +46,41 @@ geometry_msgs::Point Point(double x, double y, double z) {
   return p;
 }
 
+// The 12 edges of the axis-aligned box lo..hi as a LINE_LIST's point pairs.
+void AddWireBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, visualization_msgs::Marker& m) {
+  const auto corner = [&](int i) {
+    return Point(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
+  };
+  for (int i = 0; i < 8; ++i) {
+    for (int bit : {1, 2, 4}) {
+      if ((i & bit) == 0) m.points.push_back(corner(i)), m.points.push_back(corner(i | bit));
+    }
+  }
+}
+
+// What a marker array starts with so that the markers it no longer holds disappear.
+visualization_msgs::Marker DeleteAll(const std::string& frame, const ros::Time& stamp) {
+  visualization_msgs::Marker clear;
+  clear.header.frame_id = frame;
+  clear.header.stamp = stamp;
+  clear.action = visualization_msgs::Marker::DELETEALL;
+  return clear;
+}
+
+// A mover track's colour: hues a golden ratio of the circle apart from one id to
+// the next (tracks born together differ most), none in the band of the objects'
+// blue; a lost track's dimmer.
+std_msgs::ColorRGBA TrackColour(int id, bool lost) {
+  const double turn = std::fmod(id * 0.6180339887, 1.0);
+  const double hue = std::fmod(0.72 + 0.8 * turn, 1.0) * 6;  // in sextants from red: 3.1-4.3 (blue) left out
+  const double s = 0.8, v = lost ? 0.5 : 1.0;
+  const auto channel = [&](double n) {
+    const double k = std::fmod(n + hue, 6.0);
+    return static_cast<float>(v - v * s * std::max(0.0, std::min({k, 4 - k, 1.0})));
+  };
+  return Colour(channel(5), channel(3), channel(1), lost ? 0.6f : 1.f);
+}
+
 // A colour from blue (low) through green to red (high), t in [0, 1].
 std_msgs::ColorRGBA Ramp(float t) {
   t = std::clamp(t, 0.f, 1.f);
@@ -234,10 +269,7 @@ sensor_msgs::PointCloud2 DenseCloud(const MapSnapshot& map, const std::string& f
 visualization_msgs::MarkerArray ObjectMarkers(const std::vector<ObjectEstimate>& objects, const std::string& frame,
                                               const ros::Time& stamp) {
   visualization_msgs::MarkerArray array;
-  visualization_msgs::Marker clear;
-  clear.header.frame_id = frame;
-  clear.header.stamp = stamp;
-  clear.action = visualization_msgs::Marker::DELETEALL;
+  const visualization_msgs::Marker clear = DeleteAll(frame, stamp);
   array.markers.push_back(clear);
   for (const ObjectEstimate& o : objects) {
     if (!o.exported) continue;
@@ -251,14 +283,7 @@ visualization_msgs::MarkerArray ObjectMarkers(const std::vector<ObjectEstimate>&
     box.scale.x = 0.01;
     box.color = Colour(0.3f, 0.64f, 1.f);
     const Eigen::Vector3d lo = o.centroid - o.size / 2, hi = o.centroid + o.size / 2;
-    const auto corner = [&](int i) {
-      return Point(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
-    };
-    for (int i = 0; i < 8; ++i) {
-      for (int bit : {1, 2, 4}) {
-        if ((i & bit) == 0) box.points.push_back(corner(i)), box.points.push_back(corner(i | bit));
-      }
-    }
+    AddWireBox(lo, hi, box);
     array.markers.push_back(box);
     visualization_msgs::Marker label = box;
     label.ns = "labels";
@@ -269,6 +294,65 @@ visualization_msgs::MarkerArray ObjectMarkers(const std::vector<ObjectEstimate>&
     label.color = Colour(1.f, 1.f, 1.f);
     label.text = fmt::format("{} {:.2f}", o.class_name, o.confidence);
     array.markers.push_back(label);
+  }
+  return array;
+}
+
+void MoverTrails::Update(const std::vector<MoverSnapshot>& movers, Timestamp t) {
+  std::map<int, Trail> kept;
+  for (const MoverSnapshot& m : movers) {
+    Trail& trail = kept[m.id];
+    if (auto it = trails_.find(m.id); it != trails_.end()) trail = std::move(it->second);
+    trail.emplace_back(t, m.position);
+    while (t - trail.front().first > FromSeconds(kSeconds)) trail.pop_front();
+  }
+  trails_ = std::move(kept);
+}
+
+const MoverTrails::Trail* MoverTrails::Of(int id) const {
+  const auto it = trails_.find(id);
+  return it == trails_.end() ? nullptr : &it->second;
+}
+
+visualization_msgs::MarkerArray MoverMarkers(const std::vector<MoverSnapshot>& movers, const MoverTrails& trails,
+                                             const std::string& frame, const ros::Time& stamp) {
+  visualization_msgs::MarkerArray array;
+  const visualization_msgs::Marker clear = DeleteAll(frame, stamp);
+  array.markers.push_back(clear);
+  for (const MoverSnapshot& m : movers) {
+    if (m.state == movers::TrackState::kTentative) continue;
+    const bool lost = m.state == movers::TrackState::kLost;
+    visualization_msgs::Marker box;
+    box.header = clear.header;
+    box.ns = "movers";
+    box.id = m.id;
+    box.type = visualization_msgs::Marker::LINE_LIST;
+    box.action = visualization_msgs::Marker::ADD;
+    box.pose.orientation.w = 1;
+    box.scale.x = 0.02;
+    box.color = TrackColour(m.id, lost);
+    const Eigen::Vector3d lo = m.position - m.extent / 2, hi = m.position + m.extent / 2;
+    AddWireBox(lo, hi, box);
+    array.markers.push_back(box);
+    visualization_msgs::Marker label = box;
+    label.ns = "mover_labels";
+    label.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
+    label.points.clear();
+    label.pose.position = Point(m.position.x(), lo.y() - 0.08, m.position.z());  // above the box: up is -y
+    label.scale.z = 0.12;
+    label.text = fmt::format("{} {}{}", m.id, m.class_name, lost ? " (lost)" : "");
+    array.markers.push_back(label);
+    const MoverTrails::Trail* trail = trails.Of(m.id);
+    if (!trail || trail->size() < 2) continue;  // a line strip needs two points
+    visualization_msgs::Marker line = box;
+    line.ns = "mover_trails";
+    line.type = visualization_msgs::Marker::LINE_STRIP;
+    line.points.clear();
+    for (const auto& sample : *trail) {
+      const Eigen::Vector3d& p = sample.second;
+      line.points.push_back(Point(p.x(), p.y(), p.z()));
+    }
+    array.markers.push_back(line);
   }
   return array;
 }

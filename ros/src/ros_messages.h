@@ -1,11 +1,14 @@
 // Between ROS 1 messages and sgslam's types: the camera's images and calibration in,
-// the pose, maps, objects and annotated image out. No node here: these functions
-// are tested without a ROS master (ros/tests/ros_messages_test.cpp).
+// the pose, maps, objects, mover tracks and annotated image out. No node here: these
+// functions are tested without a ROS master (ros/tests/ros_messages_test.cpp).
 #pragma once
 
 #include <cstdint>
+#include <deque>
+#include <map>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -66,6 +69,30 @@ sensor_msgs::PointCloud2 DenseCloud(const MapSnapshot& map, const std::string& f
 // DELETEALL so that objects merged away disappear.
 visualization_msgs::MarkerArray ObjectMarkers(const std::vector<ObjectEstimate>& objects, const std::string& frame,
                                               const ros::Time& stamp);
+// Each mover track's recent positions, for its trail: the last kSeconds of them,
+// forgotten with the track.
+class MoverTrails {
+ public:
+  static constexpr double kSeconds = 3.0;
+  using Trail = std::deque<std::pair<Timestamp, Eigen::Vector3d>>;
+
+  // The tracks of a tracked frame at time t (every state: a tentative track's path
+  // is there when it is confirmed). A frame without a pose has no tracks and is not
+  // given: it would forget them all.
+  void Update(const std::vector<MoverSnapshot>& movers, Timestamp t);
+  // Oldest first; null for a track not seen.
+  const Trail* Of(int id) const;
+
+ private:
+  std::map<int, Trail> trails_;
+};
+
+// The confirmed and lost mover tracks: a wire box of the extent at the position, an
+// "id class" label above it and the trail of its past positions, in a colour per id
+// (lost ones dimmer, "(lost)" in the label); after a DELETEALL so that tracks gone
+// disappear. Tentative tracks are not shown (new ones, and people sitting still).
+visualization_msgs::MarkerArray MoverMarkers(const std::vector<MoverSnapshot>& movers, const MoverTrails& trails,
+                                             const std::string& frame, const ros::Time& stamp);
 // The OctoMap's occupied cells as one cube list coloured by height (up is -y in the
 // map frame, the first camera's).
 visualization_msgs::Marker CellMarker(const std::vector<Eigen::Vector4f>& cells, const std::string& frame,

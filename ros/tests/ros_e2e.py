@@ -6,8 +6,10 @@ Checks that a pose arrived for at least 95 % of the frames the node took (it dro
 the oldest when it falls behind, counted: every frame must be accounted for), that the ATE of the
 published poses is within 10 % of `sgslam run` on the same frames (online poses
 against online poses, and the final trajectories), that the map points, the cloud,
-the objects and the OctoMap cells arrived, that the save service writes the outputs
-mid-run, and that the outputs written on Ctrl-C are valid.
+the objects and the OctoMap cells arrived, that the mover tracks arrived each frame
+(a DELETEALL first; the walkers as boxes with "id class" labels and trails), that
+the save service writes the outputs mid-run, and that the outputs written on Ctrl-C
+are valid.
 
     ros_e2e.py --build BUILD [--depth-encoding 32FC1|16UC1] [--frames 150] [--rate R] [--keep DIR]
 
@@ -60,10 +62,13 @@ class Listener:
         """images: decode the maps and subscribe to the annotated image (a test); else only count them."""
         self.poses = {}  # stamp (ns) -> line of a TUM trajectory
         self.latency_ms = []  # message stamp to the pose's arrival here (meaningful with --now)
-        self.counts = {"map_points": 0, "cloud": 0, "objects": 0, "octomap_cells": 0, "image": 0}
+        self.counts = {"map_points": 0, "cloud": 0, "objects": 0, "octomap_cells": 0, "movers": 0, "image": 0}
         self.cloud_points = 0
         self.cells = 0
         self.object_labels = set()
+        self.mover_labels = set()
+        self.mover_boxes = self.mover_trails = 0  # the most in one message
+        self.mover_errors = []  # what was wrong with a movers message
         self.odometry = rospy.Subscriber(f"{ns}/odometry", Odometry, self.on_odometry, queue_size=1000,
                                          tcp_nodelay=True)
         if images:
@@ -71,8 +76,9 @@ class Listener:
             rospy.Subscriber(f"{ns}/cloud", PointCloud2, self.on_cloud, queue_size=10)
             rospy.Subscriber(f"{ns}/objects", MarkerArray, self.on_objects, queue_size=10)
             rospy.Subscriber(f"{ns}/octomap_cells", Marker, self.on_cells, queue_size=10)
+            rospy.Subscriber(f"{ns}/movers", MarkerArray, self.on_movers, queue_size=100)
         else:  # measuring: counted, not decoded (rospy takes seconds of CPU for 100 000 cells)
-            for name in ("map_points", "cloud", "objects", "octomap_cells"):
+            for name in ("map_points", "cloud", "objects", "octomap_cells", "movers"):
                 rospy.Subscriber(f"{ns}/{name}", rospy.AnyMsg, self.count(name), queue_size=10)
         if images:  # the node draws the annotated image only for a listener: not while measuring
             rospy.Subscriber(f"{ns}/image", Image, self.count("image"), queue_size=10)
@@ -99,6 +105,21 @@ class Listener:
     def on_cells(self, m):
         self.counts["octomap_cells"] += 1
         self.cells = len(m.points)
+
+    def on_movers(self, m):
+        self.counts["movers"] += 1
+        if not m.markers or m.markers[0].action != Marker.DELETEALL:
+            self.mover_errors.append("a message does not start with a DELETEALL")
+        shown = m.markers[1:]
+        boxes = [k for k in shown if k.type == Marker.LINE_LIST]
+        trails = [k for k in shown if k.type == Marker.LINE_STRIP and len(k.points) >= 2]
+        labels = [k.text for k in shown if k.type == Marker.TEXT_VIEW_FACING]
+        if len(labels) != len(boxes) or any(len(k.points) != 24 for k in boxes):
+            self.mover_errors.append(f"{len(boxes)} boxes (not all of 12 edges?) and {len(labels)} labels")
+        if any(k.header.frame_id != "map" for k in shown):
+            self.mover_errors.append("a marker not in the map frame")
+        self.mover_boxes, self.mover_trails = max(self.mover_boxes, len(boxes)), max(self.mover_trails, len(trails))
+        self.mover_labels.update(labels)
 
 
 def check_outputs(out, poses):
@@ -221,7 +242,8 @@ def run_node(args, build, work, seq, out):
         while len(listener.poses) != last:  # until the poses stop coming
             last = len(listener.poses)
             time.sleep(1.0)
-        wait_for(lambda: all(listener.counts[k] > 0 for k in ("map_points", "cloud", "objects", "octomap_cells")),
+        wait_for(lambda: all(listener.counts[k] > 0 for k in ("map_points", "cloud", "objects", "octomap_cells",
+                                                               "movers")),
                  30, f"the maps and markers (so far {listener.counts})")
         rospy.wait_for_service("/sgslam/save", timeout=10)
         answer = rospy.ServiceProxy("/sgslam/save", Trigger)()
@@ -289,7 +311,8 @@ def report(args, listener, rss, stats, frames, sgslam, gt, work, out, ref_online
         print(f"message time to pose received: median {r['message_to_pose_median_ms']:.1f} ms, "
               f"p95 {r['message_to_pose_p95_ms']:.1f} ms")
     print(f"messages: {listener.counts}; cloud {listener.cloud_points} points, {listener.cells} OctoMap cells, "
-          f"objects {sorted(listener.object_labels)}")
+          f"objects {sorted(listener.object_labels)}; movers {sorted(listener.mover_labels)}, at most "
+          f"{listener.mover_boxes} boxes and {listener.mover_trails} trails at once")
     if ref_online is not None:
         published = os.path.join(work, "published.txt")
         with open(published, "w") as f:
@@ -323,7 +346,23 @@ def report(args, listener, rss, stats, frames, sgslam, gt, work, out, ref_online
             fail(f"ATE of the {what} poses {got:.4f} m is not within 10 % of sgslam run's {want:.4f} m")
     if listener.counts["image"] == 0:
         fail("no annotated image arrived")
+    check_movers(listener, len(listener.poses))
     return r
+
+
+def check_movers(listener, poses):
+    """The movers' markers: one message per tracked frame (the node publishes one per
+    frame; a few may be lost to the subscriber's queue), well formed, and the walkers
+    shown as confirmed tracks with trails."""
+    if listener.counts["movers"] < 0.9 * poses:
+        fail(f"{listener.counts['movers']} movers messages for {poses} poses: not one a frame")
+    if listener.mover_errors:
+        fail(f"movers markers: {listener.mover_errors[0]} ({len(listener.mover_errors)} messages wrong)")
+    if not any(re.fullmatch(r"\d+ person( \(lost\))?", label) for label in listener.mover_labels):
+        fail(f"no walker among the movers' labels {sorted(listener.mover_labels)}")
+    if listener.mover_boxes < 2 or listener.mover_trails < 2:
+        fail(f"at most {listener.mover_boxes} movers' boxes and {listener.mover_trails} trails at once: "
+             "the sequence's two walkers were not both shown")
 
 
 if __name__ == "__main__":

@@ -165,5 +165,51 @@ TEST(RosOutputs, PoseCloudMarkersAndImage) {
   EXPECT_GT(drawn.at<cv::Vec3b>(10, 13)[1], 100);  // the kept keypoint's green circle
 }
 
+TEST(RosOutputs, MoverMarkersWithTrails) {
+  MoverSnapshot walker;
+  walker.id = 3, walker.class_name = "person", walker.state = movers::TrackState::kConfirmed;
+  walker.extent = {0.4, 1.6, 0.3};
+  MoverSnapshot box = walker;
+  box.id = 4, box.class_name = "unknown", box.state = movers::TrackState::kLost;
+  MoverSnapshot sitting = walker;
+  sitting.id = 5, sitting.state = movers::TrackState::kTentative;
+  MoverTrails trails;
+  for (int i = 0; i <= 40; ++i) {  // 4 s at 10 Hz, walking along x
+    walker.position = {0.1 * i, 0, 2};
+    trails.Update({walker, box, sitting}, FromSeconds(0.1 * i));
+  }
+  ASSERT_NE(trails.Of(3), nullptr);
+  EXPECT_EQ(trails.Of(3)->size(), 31u);  // the last 3 s
+  EXPECT_DOUBLE_EQ(trails.Of(3)->front().second.x(), 1.0);
+  EXPECT_EQ(trails.Of(5)->size(), 31u);  // a tentative track's path is kept for when it is confirmed
+
+  const auto markers = MoverMarkers({walker, box, sitting}, trails, "map", ros::Time(4));
+  ASSERT_EQ(markers.markers.size(), 7u);  // DELETEALL, then a box, a label and a trail per shown track
+  EXPECT_EQ(markers.markers[0].action, visualization_msgs::Marker::DELETEALL);
+  const auto& walker_box = markers.markers[1];
+  EXPECT_EQ(walker_box.header.frame_id, "map");
+  EXPECT_EQ(walker_box.type, visualization_msgs::Marker::LINE_LIST);
+  EXPECT_EQ(walker_box.id, 3);
+  ASSERT_EQ(walker_box.points.size(), 24u);  // 12 edges around (4, 0, 2)
+  for (const auto& p : walker_box.points) {
+    EXPECT_NEAR(std::abs(p.x - 4.0), 0.2, 1e-9);
+    EXPECT_NEAR(std::abs(p.y), 0.8, 1e-9);
+  }
+  EXPECT_EQ(markers.markers[2].type, visualization_msgs::Marker::TEXT_VIEW_FACING);
+  EXPECT_EQ(markers.markers[2].text, "3 person");
+  EXPECT_LT(markers.markers[2].pose.position.y, -0.8);  // above the box: up is -y
+  EXPECT_EQ(markers.markers[3].type, visualization_msgs::Marker::LINE_STRIP);
+  EXPECT_EQ(markers.markers[3].points.size(), 31u);
+  EXPECT_DOUBLE_EQ(markers.markers[3].points.back().x, 4.0);
+  EXPECT_EQ(markers.markers[5].text, "4 unknown (lost)");
+  EXPECT_NE(markers.markers[4].color.r, walker_box.color.r);  // a colour per id
+  EXPECT_LT(markers.markers[4].color.a, walker_box.color.a);  // lost: dimmer
+
+  trails.Update({walker}, FromSeconds(4.1));  // the others are gone: so are their trails
+  EXPECT_EQ(trails.Of(4), nullptr);
+  EXPECT_EQ(trails.Of(5), nullptr);
+  EXPECT_EQ(MoverMarkers({}, trails, "map", ros::Time(5)).markers.size(), 1u);  // DELETEALL alone
+}
+
 }  // namespace
 }  // namespace sgslam::ros_bridge

@@ -1,24 +1,27 @@
 #!/usr/bin/env bash
 # Rviz with the shipped configuration, under Xvfb, watching the node on a sequence
 # played by sgslam_ros_play; a screenshot of the screen when the sequence is done.
-#   ros/tests/rviz_screenshot.sh [--build DIR] [--rate R] [--config C] [--check] DATASET OUT.png
+#   ros/tests/rviz_screenshot.sh [--build DIR] [--rate R] [--frames N] [--config C] [--check] DATASET OUT.png
 # Starts its own master (roslaunch) on a free port and its own X display; stops both.
 # --check (CTest's Ros.Rviz): fails unless Rviz drew the map (many lit pixels in its
 # 3-D view) and the frame (in its image panel). DATASET "synth": a synthetic walkers
-# sequence made for the purpose.
+# sequence made for the purpose. --frames N: the first N frames only (the moment to
+# show: the movers' markers are the last frame's).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-build=build rate=1.0 config="" check=0
+build=build rate=1.0 frames=0 config="" check=0
 while [ $# -gt 2 ]; do
   case "$1" in
     --build) build=$2; shift 2 ;;
     --rate) rate=$2; shift 2 ;;
+    --frames) frames=$2; shift 2 ;;
     --config) config=$2; shift 2 ;;
     --check) check=1; shift ;;
     *) echo "rviz_screenshot.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
-[ $# -eq 2 ] || { echo "usage: rviz_screenshot.sh [--build DIR] [--rate R] [--config C] [--check] DATASET OUT.png" >&2; exit 2; }
+[ $# -eq 2 ] || {
+  echo "usage: rviz_screenshot.sh [--build DIR] [--rate R] [--frames N] [--config C] [--check] DATASET OUT.png" >&2; exit 2; }
 png=$(realpath -m "$2") build=$(realpath "$build")
 for tool in Xvfb roslaunch rviz import; do
   command -v $tool >/dev/null || { echo "SKIP: $tool is not installed (scripts/setup.sh --ros)"; exit 77; }
@@ -57,7 +60,7 @@ for _ in $(seq 120); do
   sleep 0.5
 done
 xwininfo -root -tree 2>/dev/null | grep -qi rviz || { echo "Rviz opened no window in 60 s:"; tail -20 "$work/launch.log"; exit 1; }
-"$build/sgslam_ros_play" "$dataset" --rate "$rate" --wait-subscribers 60 > "$work/play.log" 2>&1 || {
+"$build/sgslam_ros_play" "$dataset" --rate "$rate" --max-frames "$frames" --wait-subscribers 60 > "$work/play.log" 2>&1 || {
   echo "sgslam_ros_play failed:"; cat "$work/play.log"; tail -20 "$work/launch.log"; exit 1; }
 sleep 4  # the last keyframe's maps (published at most once a second)
 import -window root "$png"

@@ -39,7 +39,7 @@ TEST(SynthCommand, WritesEveryListedFile) {
   EXPECT_NE(r.output.find("walkers"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find(out.string()), std::string::npos) << r.output;
   for (const char* f : {"rgb.txt", "depth.txt", "mask.txt", "associations.txt", "groundtruth.txt", "detections.txt",
-                        "objects_gt.json", "sgslam.yaml"}) {
+                        "objects_gt.json", "movers.txt", "sgslam.yaml"}) {
     EXPECT_TRUE(fs::is_regular_file(out / f)) << f;
   }
   for (const char* list : {"rgb.txt", "depth.txt", "mask.txt", "associations.txt"}) EXPECT_EQ(CountLines(out / list), 10) << list;

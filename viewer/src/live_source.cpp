@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "message.h"
+#include "movers.h"
 #include "sgslam/semantic/object_json.h"
 #include "truth.h"
 #include "sgslam/common/time.h"
@@ -109,6 +110,7 @@ std::shared_ptr<const std::string> LiveSource::EncodeFrame() {
                                {"box", {d.box.x, d.box.y, d.box.width, d.box.height}},
                                {"carried", d.carried}});
   }
+  h["movers"] = MoversJson(f->movers);
   std::vector<std::uint8_t> jpeg;
   if (!f->bgr.empty()) cv::imencode(".jpg", f->bgr, jpeg, {cv::IMWRITE_JPEG_QUALITY, 75});
   m.Add("image", jpeg);

@@ -5,6 +5,7 @@
 #include <spdlog/spdlog.h>
 
 #include "message.h"
+#include "movers.h"
 #include "run_folder_files.h"
 #include "truth.h"
 #include "sgslam/common/error.h"
@@ -12,6 +13,7 @@
 #include "sgslam/eval/evaluate.h"
 #include "sgslam/io/ply.h"
 #include "sgslam/io/trajectory.h"
+#include "sgslam/movers/tracks_file.h"
 
 namespace sgslam::viewer {
 
@@ -102,6 +104,12 @@ RunFolderSource::RunFolderSource(const fs::path& folder) try {
   m.Add("cells", OptionalRegularFile(octomap, "OctoMap") ? ReadOccupiedCells(octomap) : std::vector<float>{});
   m.header()["objects"] =
       OptionalRegularFile(objects, "run output") ? ReadRunObjects(objects) : nlohmann::json::array();
+  if (const fs::path tracks = folder / "tracks.txt"; OptionalRegularFile(tracks, "run output")) {
+    if (const std::size_t left_out = AddRunTracks(movers::ReadTracksFile(tracks), trajectory, m)) {
+      spdlog::warn("view: {}: {} lines at times trajectory.txt has no pose for are not shown (another run's file?)",
+                   tracks.string(), left_out);
+    }
+  }
   // The cloud is one piece (id 0) at the world's origin.
   m.Add("piece_ids", std::vector<std::uint32_t>{0});
   m.Add("piece_poses", ColumnMajor(SE3()));

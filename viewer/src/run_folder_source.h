@@ -1,7 +1,7 @@
 // What `sgslam view OUTDIR` shows: a finished run's outputs (trajectory.txt,
-// keyframes.txt, map_points.ply, cloud.ply, octomap.bt, objects.json, stats.json),
-// read once and encoded once. The dataset's ground truth is shown aligned to the
-// trajectory when stats.json names a dataset folder that has one.
+// keyframes.txt, map_points.ply, cloud.ply, octomap.bt, objects.json, tracks.txt,
+// stats.json), read once and encoded once. The dataset's ground truth is shown
+// aligned to the trajectory when stats.json names a dataset folder that has one.
 #pragma once
 
 #include <filesystem>
@@ -15,8 +15,8 @@ class RunFolderSource : public Source {
  public:
   // Throws sgslam::InputError naming the file when the folder has no trajectory.txt,
   // or a file in it is unreadable, malformed, too large or not a regular file (a
-  // FIFO is refused, not waited on). A missing optional file (cloud, OctoMap,
-  // objects) is logged.
+  // FIFO is refused, not waited on). A missing optional file (keyframes, map
+  // points, cloud, OctoMap, objects, tracks) leaves its layer empty.
   explicit RunFolderSource(const std::filesystem::path& folder);
 
   std::uint64_t FrameVersion() const override { return 0; }  // no frames: the map only

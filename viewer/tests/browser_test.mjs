@@ -1,7 +1,8 @@
 // The viewer in a real browser (Debian's chromium driven by playwright-core): a
 // `sgslam run --viewer` of a synthetic sequence is opened, and the test checks
 // that frames, poses, map points, the cloud and objects arrive and are drawn, that
-// pause and step hold the run, and saves a screenshot.
+// pause and step hold the run, and saves a screenshot. Then a run of a synthetic
+// sequence of walkers (the objects scene has no movers): their tracks are drawn.
 //   node browser_test.mjs --sgslam BIN --work DIR [--dataset DIR] [--parallel 1] [--chromium PATH]
 //                         [--screenshot FILE]
 // (the README's picture: --dataset ../shared/data/dyn_dev --parallel 1 --screenshot docs/viewer.png)
@@ -89,3 +90,36 @@ try {
 }
 const code = await run.exited;
 check(code === 0 || code === 130, `sgslam run ended cleanly (${code})`);
+await checkLiveMovers();
+
+// The movers layer, on at first, draws the confirmed tracks with their paths as
+// the frames bring them.
+async function checkLiveMovers() {
+  const walkers = path.join(work, 'walkers');
+  const synth = spawnSync(args.sgslam, ['synth', '--out', walkers, '--preset', 'walkers', '--frames', '90'],
+                          { encoding: 'utf8' });
+  if (synth.status !== 0) fail(`sgslam synth failed: ${synth.stderr}`);
+  const browser = await launchChromium(args.chromium);
+  const run = startServed(args.sgslam, ['run', '--dataset', walkers, '--out', path.join(work, 'walkers_out'),
+                                        '--viewer=0', '--sequential']);
+  try {
+    const page = await browser.newPage({ viewport: { width: 1280, height: 720 } });
+    const pageErrors = collectErrors(page);
+    await page.goto(await run.url);
+    check(await page.isChecked('input[data-layer=movers]'), 'the movers layer is on at first');
+    check(!(await page.isVisible('#c-replay')), 'a live run has no replay slider');
+    await page.waitForFunction(() => window.sgslamViewer.movers > 0 && window.sgslamViewer.moverTrailPoints > 10,
+                               null, { timeout: 120000 });
+    const v = await page.evaluate(() => window.sgslamViewer);
+    check(v.frame.movers.some((m) => m.state === 'confirmed' && m.class === 'person' && m.extent.length === 3),
+          `frame ${v.frame.index + 1} brought confirmed tracks: ${v.movers} movers drawn, their paths ` +
+          `${v.moverTrailPoints} points (${await page.textContent('#p-movers')})`);
+    check(v.errors.length === 0 && pageErrors.length === 0,
+          `no error in the page (${[...v.errors, ...pageErrors].join('; ')})`);
+  } finally {
+    await browser.close();
+    run.child.kill('SIGINT');
+  }
+  const code = await run.exited;
+  check(code === 0 || code === 130, `sgslam run of the walkers ended cleanly (${code})`);
+}

@@ -15,7 +15,7 @@ const STATE_NAMES = { ok: 'tracking', lost: 'lost', not_initialized: 'initialisi
 // What the tests read (viewer/tests): counts of what arrived and was drawn.
 const state = { info: null, frames: 0, maps: 0, frame: null, mapPoints: 0, cloudPoints: 0, pieces: 0,
                 objects: 0, keyframes: 0, cells: 0, cellsVersion: 0, cellsDrawn: 0, truthPoints: 0, renders: 0, errors: [],
-                drawnMaps: 0, paused: false };
+                drawnMaps: 0, paused: false, movers: 0, moverTrailPoints: 0 };
 window.sgslamViewer = state;
 // For the tests: the share of the 3-D view's pixels unlike the background, read in
 // the same task as a drawing (the drawing buffer is not kept after it is shown).
@@ -52,7 +52,7 @@ scene.add(world);
 scene.add(new THREE.GridHelper(20, 40, 0x3a424b, 0x262c33));
 
 const layers = {};
-for (const name of ['path', 'truth', 'keyframes', 'points', 'cloud', 'cells', 'objects', 'camera']) {
+for (const name of ['path', 'truth', 'keyframes', 'points', 'cloud', 'cells', 'objects', 'movers', 'camera']) {
   layers[name] = new THREE.Group();
   world.add(layers[name]);
 }
@@ -226,6 +226,7 @@ function showFrame(header, buffers) {
   setText('p-rejected', `${(100 * header.rejected_share).toFixed(1)} %`);
   setText('p-keyframes', header.keyframes);
   setText('p-points', header.map_points);
+  showLiveMovers(header.t, header.movers);
   return drawFrame(header, buffers);
 }
 
@@ -237,17 +238,20 @@ function setPositions(geometry, array) {
 
 const objectBoxes = new THREE.Group();
 layers.objects.add(objectBoxes);
-function label(text) {
+// A text on a dark ground, 0.075 high, as wide as the text.
+function label(text, colour = '#ffd23d') {
   const c = document.createElement('canvas');
-  c.width = 256; c.height = 48;
+  const font = '28px system-ui, sans-serif';
   const g = c.getContext('2d');
+  g.font = font;
+  c.width = Math.ceil(g.measureText(text).width) + 16; c.height = 48;
   g.fillStyle = 'rgba(0,0,0,0.6)';
-  g.fillRect(0, 0, 256, 48);
-  g.font = '28px system-ui, sans-serif';
-  g.fillStyle = '#ffd23d';
+  g.fillRect(0, 0, c.width, 48);
+  g.font = font;  // the canvas's state went with its resizing
+  g.fillStyle = colour;
   g.fillText(text, 8, 34);
   const sprite = new THREE.Sprite(new THREE.SpriteMaterial({ map: new THREE.CanvasTexture(c), depthTest: false }));
-  sprite.scale.set(0.4, 0.075, 1);
+  sprite.scale.set((0.075 * c.width) / 48, 0.075, 1);
   sprite.rotation.x = Math.PI;  // the world group's turn would show it upside down
   return sprite;
 }
@@ -301,6 +305,172 @@ function showCells(c) {
   cells = new THREE.Points(g, new THREE.PointsMaterial({ size: c[3], sizeAttenuation: true, vertexColors: true }));
   layers.cells.add(cells);
 }
+
+// ---- the movers ------------------------------------------------------------------
+// The mover tracks (movers/mover_tracker.h): a confirmed or lost one is a box of its
+// extent at its centroid, labelled with its id and class, and its path over the last
+// MOVER_TRAIL_S, in a colour of its id; a lost one (coasting on its last velocity)
+// dashed and dimmer. Tentative ones are not drawn: most are noise that never
+// confirms, and their paths are left out too. A live run's tracks come with each
+// frame and the page keeps their paths; a finished run's (tracks.txt) with its map,
+// shown at the frame its slider picks.
+const MOVER_TRAIL_S = 3;
+const MOVER_TRAIL_MAX = 512;  // points of a path at most (3 s at 30 Hz are 90)
+const MOVER_STATES = ['tentative', 'confirmed', 'lost'];  // a finished run's state codes (viewer/src/movers.h)
+const unitBox = new THREE.EdgesGeometry(new THREE.BoxGeometry(1, 1, 1));
+new THREE.LineSegments(unitBox).computeLineDistances();  // the dashes' distances, on the geometry every box shares
+const moverGroup = new THREE.Group();
+layers.movers.add(moverGroup);
+const moverViews = new Map();  // track id -> its box, label and path
+
+function moverView(id) {
+  let v = moverViews.get(id);
+  if (v) return v;
+  const colour = new THREE.Color().setHSL((id * 0.618034) % 1, 0.85, 0.6);  // the golden angle: neighbours differ
+  const g = new THREE.BufferGeometry();
+  g.setAttribute('position', new THREE.BufferAttribute(new Float32Array(3 * MOVER_TRAIL_MAX), 3));
+  const trail = new THREE.Line(g, new THREE.LineBasicMaterial({ color: colour }));
+  trail.frustumCulled = false;  // its bounds change with every frame: not worth computing
+  v = { solid: new THREE.LineBasicMaterial({ color: colour }),
+        dashed: new THREE.LineDashedMaterial({ color: colour, dashSize: 0.06, gapSize: 0.06, transparent: true,
+                                               opacity: 0.5 }),
+        trail, label: null, text: '', css: `#${colour.getHexString()}` };
+  v.box = new THREE.LineSegments(unitBox, v.solid);
+  moverGroup.add(v.box, trail);
+  moverViews.set(id, v);
+  return v;
+}
+
+function dropLabel(v) {
+  if (!v.label) return;
+  moverGroup.remove(v.label);
+  v.label.material.map.dispose();
+  v.label.material.dispose();
+  v.label = null;
+}
+
+// movers: [{ id, class, state, position, extent }]; trails: id -> its path's
+// positions (x, y, z each), oldest first. A track that ended goes with its path.
+function drawMovers(movers, trails) {
+  const shown = new Map();
+  for (const m of movers) if (m.state !== 'tentative') shown.set(m.id, m);
+  for (const id of shown.keys()) moverView(id);
+  let trailPoints = 0, lost = 0;
+  for (const [id, v] of moverViews) {
+    const m = shown.get(id), xyz = trails.get(id) || [];
+    if (!m) {
+      dropLabel(v);
+      moverGroup.remove(v.box, v.trail);
+      v.trail.geometry.dispose();
+      v.trail.material.dispose();
+      v.solid.dispose();
+      v.dashed.dispose();
+      moverViews.delete(id);
+      continue;
+    }
+    const isLost = m.state === 'lost';
+    lost += isLost;
+    v.box.position.set(...m.position);
+    v.box.scale.set(...m.extent.map((e) => Math.max(e, 0.02)));  // a flat box's matrix would not invert
+    v.box.material = isLost ? v.dashed : v.solid;
+    const text = `${id} ${m.class}`;
+    if (text !== v.text) {
+      dropLabel(v);
+      v.label = label(text, v.css);
+      // Of one size on the screen: a mover is often seen from afar, among others.
+      v.label.material.sizeAttenuation = false;
+      v.label.scale.multiplyScalar(0.4);
+      v.text = text;
+      moverGroup.add(v.label);
+    }
+    v.label.position.set(m.position[0], m.position[1] - m.extent[1] / 2 - 0.08, m.position[2]);
+    v.label.material.opacity = isLost ? 0.5 : 1;
+    const n = Math.min(xyz.length / 3, MOVER_TRAIL_MAX);
+    const position = v.trail.geometry.attributes.position;
+    for (let i = 0, from = xyz.length - 3 * n; i < 3 * n; i++) position.array[i] = xyz[from + i];
+    position.needsUpdate = true;
+    v.trail.geometry.setDrawRange(0, n);
+    trailPoints += n;
+  }
+  state.movers = shown.size;
+  state.moverTrailPoints = trailPoints;
+  setText('p-movers', `${shown.size - lost} confirmed, ${lost} lost`);
+}
+
+// A live run: each path is the positions of its track in the frames the page got.
+const livePaths = new Map();  // id -> { t: [s], xyz: [m] }
+function showLiveMovers(t, movers) {
+  for (const m of movers) {
+    if (m.state === 'tentative') continue;
+    if (!livePaths.has(m.id)) livePaths.set(m.id, { t: [], xyz: [] });
+    const p = livePaths.get(m.id);
+    p.t.push(t);
+    p.xyz.push(...m.position);
+  }
+  const trails = new Map();
+  for (const [id, p] of livePaths) {
+    let old = 0;
+    while (old < p.t.length && p.t[old] < t - MOVER_TRAIL_S) old++;
+    p.t.splice(0, old);
+    p.xyz.splice(0, 3 * old);
+    if (p.t.length === 0) livePaths.delete(id);
+    else trails.set(id, p.xyz);
+  }
+  drawMovers(movers, trails);
+}
+
+// A finished run: its tracks' lines (viewer/src/movers.h: by frame), shown at the
+// slider's frame with their paths up to it.
+const replayBox = document.getElementById('replay');
+const replaySlider = document.getElementById('c-replay');
+let replay = null;
+function setUpReplay(message, classes) {
+  // Copies: views would keep the whole message, cloud and all, for as long as the page.
+  const b = {};
+  for (const name of ['path_t', 'mover_frame', 'mover_id', 'mover_class', 'mover_state', 'mover_position',
+                      'mover_extent']) {
+    b[name] = message[name].slice();
+  }
+  const n = b.mover_id.length, frames = b.path_t.length;
+  const frameStart = new Uint32Array(frames + 1), byId = new Map(), rank = new Uint32Array(n);
+  let last = 0;  // the last frame with a confirmed track: where the slider starts
+  for (let i = 0; i < n; i++) {
+    frameStart[b.mover_frame[i] + 1]++;
+    if (!byId.has(b.mover_id[i])) byId.set(b.mover_id[i], []);
+    const lines = byId.get(b.mover_id[i]);
+    rank[i] = lines.length;
+    lines.push(i);
+    if (MOVER_STATES[b.mover_state[i]] === 'confirmed') last = b.mover_frame[i];
+  }
+  for (let f = 0; f < frames; f++) frameStart[f + 1] += frameStart[f];
+  replay = { b, classes, frameStart, byId, rank };
+  replaySlider.max = frames - 1;
+  replaySlider.value = last;
+  replayBox.hidden = false;
+  showReplayFrame(last);
+}
+function showReplayFrame(k) {
+  const { b, classes, frameStart, byId, rank } = replay;
+  const t = b.path_t[k], movers = [], trails = new Map();
+  for (let i = frameStart[k]; i < frameStart[k + 1]; i++) {
+    const m = { id: b.mover_id[i], class: classes[b.mover_class[i]], state: MOVER_STATES[b.mover_state[i]],
+                position: Array.from(b.mover_position.subarray(3 * i, 3 * i + 3)),
+                extent: Array.from(b.mover_extent.subarray(3 * i, 3 * i + 3)) };
+    movers.push(m);
+    if (m.state === 'tentative') continue;
+    const lines = byId.get(m.id), path = [];
+    for (let j = rank[i]; j >= 0 && b.path_t[b.mover_frame[lines[j]]] >= t - MOVER_TRAIL_S; j--) {
+      if (MOVER_STATES[b.mover_state[lines[j]]] !== 'tentative') path.push(lines[j]);
+    }
+    const xyz = [];
+    for (let j = path.length - 1; j >= 0; j--) xyz.push(...b.mover_position.subarray(3 * path[j], 3 * path[j] + 3));
+    trails.set(m.id, xyz);
+  }
+  drawMovers(movers, trails);
+  setText('p-replay', `frame ${k + 1} of ${b.path_t.length}, ${t.toFixed(1)} s`);
+  requestRender();
+}
+replaySlider.addEventListener('input', () => showReplayFrame(Number(replaySlider.value)));
 
 // The first map of a finished run: the view is moved to see all of it, from above
 // and behind the first camera.
@@ -382,6 +552,8 @@ function showMap(header, b) {
   state.pieces = pieces.size;
   state.cloudPoints = cloudPoints;
   showObjects(header.objects);
+  if (b.mover_id && b.mover_id.length > 0 && !replay) setUpReplay(b, header.mover_classes);
+  else if (b.mover_id && !replay) setText('p-movers', 'none in tracks.txt');
   if (state.info && !state.info.live) {
     setText('p-keyframes', n);
     setText('p-points', state.mapPoints);

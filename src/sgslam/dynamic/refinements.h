@@ -41,6 +41,9 @@
 //                             box_carry.h)
 //   R11 first frame           judged by its boxes alone, then again with the second
 //                             frame's flow (switch first_frame_rejudge)
+//   R12 track footprints      in a frame the detector did not see, a mover track's
+//                             predicted box (switch track_footprints;
+//                             movers/mover_tracker.h, kUnknownMoverWeight)
 // In tracking (tracking/): trusted map points hold the pose against fresh movers
 // (tracking.trust_*), and a rolling shutter is corrected (camera.readout).
 // Thread safety: free functions on const inputs.

@@ -3,6 +3,7 @@
 //   rgb/<t>.png depth/<t>.png mask/<t>.png   BGR8, 16-bit (m * 5000), 8-bit dynamic mask
 //   rgb.txt depth.txt mask.txt associations.txt groundtruth.txt (T_w_c)
 //   detections.txt (io/detections_file.h)  objects_gt.json  sgslam.yaml (camera)
+//   movers.txt (each visible mover's pixels and visible centre per frame, world frame)
 // Frames render on two worker threads; the files do not depend on the scheduling.
 #pragma once
 

@@ -155,8 +155,8 @@ void DynamicStage::AwaitDetections(std::uint64_t frame_id, const dynamic::PairSe
   AwaitBoxes(frame_id, pairs, image, out);
   // R12: in a frame the detector did not see (detector.stride, late), a track's
   // predicted box where no box of its class holds the mover. Where the detector
-  // ran, its boxes and R10 decide: the predictions there cost dyn_dev 0.003 m ATE
-  // (docs/algorithm1.md, R12).
+  // ran, its boxes and R10 decide: the predictions there too lost dyn_dev static
+  // keypoints (18.6 -> 20.6 %) for no better ATE (docs/algorithm1.md, R12).
   if (out.fresh_boxes) return;
   for (const Detection& p : predicted) {
     const auto holds = [&](const Detection& d) {

@@ -7,10 +7,11 @@
 // The mode is parsed once. None skips everything; geometric never needs the
 // detector; semantic and sg use it when one is given, else they degrade (semantic
 // to none, sg to geometric) with one warning. Around Algorithm 1 the stage applies
-// the refinements R8-R11 of dynamic/refinements.h: the box area limit, the
+// the refinements R8-R12 of dynamic/refinements.h: the box area limit, the
 // detector stride (boxes followed by the flow between detector frames), the carry
-// of missed movers' boxes, and the first frame judged by its boxes alone, then
-// again with the second frame (DynamicOutcome::judged_again); and it keeps R3's
+// of missed movers' boxes, the first frame judged by its boxes alone, then
+// again with the second frame (DynamicOutcome::judged_again), and the mover
+// tracks' predicted boxes in frames the detector did not see; and it keeps R3's
 // prior of the previous frames' rejections. Their switches are
 // DynamicConfig::refinements, their sizes constants of dynamic_stage.cpp. The current LK
 // pyramid is kept as the next frame's previous one, so each image's pyramid is
