@@ -81,7 +81,6 @@ struct Scene {
     FrameInput in;
     in.t = t;
     in.keys = &keys;
-    in.keys_un = &keys;
     in.depth = &key_depth;
     in.moving = &key_moving;
     in.boxes = &boxes;

@@ -91,7 +91,6 @@ struct FrameInput {
   Timestamp t = 0;
   SE3 T_c_w;
   const std::vector<cv::KeyPoint>* keys = nullptr;
-  const std::vector<cv::KeyPoint>* keys_un = nullptr;  // undistorted, for the 3-D points
   const std::vector<float>* depth = nullptr;
   const std::vector<std::uint8_t>* moving = nullptr;
   const std::vector<Detection>* boxes = nullptr;

@@ -253,7 +253,6 @@ void SlamSystem::UpdateMovers(const Frame& frame, const TrackResult& result, con
   in.t = frame.t;
   in.T_c_w = frame.T_c_w;
   in.keys = &frame.features->keys;
-  in.keys_un = &frame.features->keys_un;
   in.depth = &frame.features->depth;
   in.moving = &moving_;
   in.boxes = &frame.features->detections;
