@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numeric>
 
+#include "sgslam/common/stats.h"
+
 namespace sgslam::movers {
 
 namespace {
@@ -47,19 +49,6 @@ constexpr double kPredictFor = 0.5;  // s since the last observation a footprint
 constexpr float kFootprintMargin = 6.f;  // px around the projected points
 constexpr int kMinFootprintPoints = 5;
 
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0;
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
-
-double Percentile(std::vector<double>& v, double p) {
-  const auto k = static_cast<std::ptrdiff_t>(p * static_cast<double>(v.size() - 1));
-  std::nth_element(v.begin(), v.begin() + k, v.end());
-  return v[static_cast<std::size_t>(k)];
-}
-
 // The smallest box holding the points, grown by margin on every side.
 cv::Rect2f Bounds(const std::vector<cv::Point2f>& pts, float margin) {
   float x0 = pts[0].x, y0 = pts[0].y, x1 = x0, y1 = y0;
@@ -75,25 +64,16 @@ cv::Rect2f Clip(const cv::Rect2f& r, cv::Size image) {
   return r & cv::Rect2f(0.f, 0.f, static_cast<float>(image.width), static_cast<float>(image.height));
 }
 
-// The depth of the nearest surface that fills a good part of the box: a mover is
-// in front of what it hides. 0 when the box has too few depth samples.
-double ForegroundDepth(const cv::Mat& depth_raw, const cv::Rect2f& box, float step, const Camera& camera) {
-  std::vector<double> z;
-  for (float v = box.y + 0.5f * step; v < box.y + box.height; v += step) {
-    for (float u = box.x + 0.5f * step; u < box.x + box.width; u += step) {
-      const double d = camera.DepthMetres(depth_raw.at<std::uint16_t>(static_cast<int>(v), static_cast<int>(u)));
-      if (d > 0) z.push_back(d);
-    }
-  }
-  if (static_cast<int>(z.size()) < kMinSamples) return 0;
+// The depth of the nearest surface that holds kForegroundShare of the box's depth
+// samples z: a mover is in front of what it hides.
+double ForegroundDepth(std::vector<double> z) {
   std::sort(z.begin(), z.end());
-  // The first window of 2 * kBand (front to back) that holds kForegroundShare of the samples.
-  const auto need = static_cast<std::ptrdiff_t>(kForegroundShare * static_cast<double>(z.size()));
-  for (std::size_t i = 0, j = 0; i < z.size(); ++i) {
+  const auto need = static_cast<std::size_t>(kForegroundShare * static_cast<double>(z.size()));
+  for (std::size_t i = 0, j = 0; i < z.size(); ++i) {  // windows of 2 * kBand, front to back
     while (j < z.size() && z[j] < z[i] + 2 * kBand) ++j;
-    if (static_cast<std::ptrdiff_t>(j - i) >= need) return Median(std::vector<double>(z.begin() + static_cast<std::ptrdiff_t>(i), z.begin() + static_cast<std::ptrdiff_t>(j)));
+    if (j - i >= need) return Median(std::vector<double>(z.begin() + static_cast<std::ptrdiff_t>(i), z.begin() + static_cast<std::ptrdiff_t>(j)));
   }
-  return Median(z);
+  return Median(std::move(z));
 }
 
 // The velocity: least-squares slope of the observed centroids over time.
@@ -142,15 +122,20 @@ bool MoverTracker::SegmentBox(const cv::Mat& depth_raw, const cv::Rect2f& box_in
   const cv::Rect2f box = Clip(box_in, depth_raw.size());
   if (box.width < 2 || box.height < 2 || depth_raw.type() != CV_16U) return false;
   const float step = std::max(1.f, std::sqrt(box.area() / static_cast<float>(kSampleTarget)));
-  if (seed_depth <= 0) seed_depth = ForegroundDepth(depth_raw, box, step, *camera_);
-  if (seed_depth <= 0) return false;
-  std::vector<cv::Point2f> pixels;
-  std::vector<double> depths;
+  std::vector<cv::Point2f> samples;
+  std::vector<double> sample_depths;
   for (float v = box.y + 0.5f * step; v < box.y + box.height; v += step) {
     for (float u = box.x + 0.5f * step; u < box.x + box.width; u += step) {
       const double z = camera_->DepthMetres(depth_raw.at<std::uint16_t>(static_cast<int>(v), static_cast<int>(u)));
-      if (z > 0 && std::abs(z - seed_depth) < kBand) pixels.emplace_back(u, v), depths.push_back(z);
+      if (z > 0) samples.emplace_back(u, v), sample_depths.push_back(z);
     }
+  }
+  if (static_cast<int>(samples.size()) < kMinSamples) return false;
+  if (seed_depth <= 0) seed_depth = ForegroundDepth(sample_depths);
+  std::vector<cv::Point2f> pixels;
+  std::vector<double> depths;
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    if (std::abs(sample_depths[i] - seed_depth) < kBand) pixels.push_back(samples[i]), depths.push_back(sample_depths[i]);
   }
   if (static_cast<int>(pixels.size()) < kMinSamples) return false;
   if (camera_->has_distortion()) camera_->Undistort(pixels);
