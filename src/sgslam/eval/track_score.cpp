@@ -86,7 +86,7 @@ MoverTruth ComputeFromPoses(const fs::path& dir, const CameraConfig& camera) {
   truth.source = path.string();
   truth.image_pixels = camera.width * camera.height;
   std::map<int, Shape> shapes;
-  std::map<Timestamp, std::map<int, SE3>> poses;  // T_w_o
+  std::map<Timestamp, std::map<int, Eigen::Vector3d>> positions;  // world; the orientations are not used
   ForEachTextLine(path, "dynamic objects", [&](int line, std::string_view text) {
     if (text.rfind("# object ", 0) == 0 && text.size() > 9 && std::isdigit(static_cast<unsigned char>(text[9]))) {
       const std::string rest(text.substr(9));
@@ -110,23 +110,16 @@ MoverTruth ComputeFromPoses(const fs::path& dir, const CameraConfig& camera) {
         throw ParseError(path.string(), line, "an object line needs width_m and height_m, or box_size");
       }
       shapes[id] = s;
-      return;
     }
-    if (text.empty() || text[0] == '#') return;
-    std::vector<std::string_view> tok;
-    std::istringstream in{std::string(text)};
-    std::string w;
-    std::vector<std::string> words;
-    while (in >> w) words.push_back(w);
-    for (const auto& x : words) tok.emplace_back(x);
+  });
+  ForEachDataLine(path, [&](int line, const std::vector<std::string_view>& tok) {
     if (tok.size() != 9) throw ParseError(path.string(), line, "expected 'timestamp id tx ty tz qx qy qz qw'");
     const auto t = ParseTimestamp(tok[0]);
     if (!t) throw ParseError(path.string(), line, "bad timestamp '" + std::string(tok[0]) + "'");
-    double v[8];
-    for (int k = 0; k < 8; ++k) v[k] = ParseNumber(tok[1 + k], path, line, "pose");
-    const int id = static_cast<int>(v[0]);
+    const int id = static_cast<int>(ParseNumber(tok[1], path, line, "id"));
     if (!shapes.count(id)) throw ParseError(path.string(), line, "object " + std::to_string(id) + " has no '# object' line");
-    poses[*t][id] = SE3(Eigen::Quaterniond(v[7], v[4], v[5], v[6]), Eigen::Vector3d(v[1], v[2], v[3]));
+    Eigen::Vector3d& p = positions[*t][id];
+    for (int a = 0; a < 3; ++a) p[a] = ParseNumber(tok[2 + a], path, line, "position");
   });
   const Trajectory gt = UniqueStamps(ReadTumTrajectory(dir / "groundtruth.txt"));
   const MaskIndex masks(dir);
@@ -136,7 +129,7 @@ MoverTruth ComputeFromPoses(const fs::path& dir, const CameraConfig& camera) {
     if (!t) throw ParseError((dir / "associations.txt").string(), line, "expected 'timestamp rgb timestamp depth'");
     depth_files[*t] = dir / std::string(tok[3]);
   });
-  for (const auto& [t, objects] : poses) {
+  for (const auto& [t, objects] : positions) {
     const auto depth_file = depth_files.find(t);
     if (depth_file == depth_files.end()) continue;  // not a frame of the sequence
     const std::optional<SE3> T_w_c = PoseAt(gt, t);
@@ -156,9 +149,8 @@ MoverTruth ComputeFromPoses(const fs::path& dir, const CameraConfig& camera) {
         const Eigen::Vector3d p = *T_w_c * Eigen::Vector3d((u - camera.cx) / camera.fx * z, (v - camera.cy) / camera.fy * z, z);
         int best = -1;
         double best_d = 1e30;
-        for (const auto& [id, T] : objects) {
+        for (const auto& [id, o] : objects) {
           const Shape& shape = shapes[id];
-          const Eigen::Vector3d o = T.translation();
           const double d = (p - o).head<2>().norm();
           const double top = shape.quad ? shape.bottom + shape.height : shape.size.z();
           if (d < Reach(shape) && p.z() > o.z() - kSlack && p.z() < o.z() + top + kSlack && d < best_d) best_d = d, best = id;
