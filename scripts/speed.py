@@ -10,7 +10,9 @@ them alike, and the medians over the repeats as a Markdown table.
 
 --modes M1,M2 runs `--mode M` for each; --variant adds a run with its own options
 (`--variant sg-stride3="--mode sg --config my.yaml"`); with --variant given, only
-the variants run unless --modes is given too.
+the variants run unless --modes is given too. A variant's options may start with
+@PATH, another sgslam binary for it (`--variant before="@/tmp/old/sgslam --mode sg"`):
+two builds compared in one sitting, alternated.
 
 A sequence is a folder, a folder under the shared data ($SGSLAM_SHARED_DIR/data or
 ../shared/data), or PRESET[:SEED] for a generated one (rendered once into --work).
@@ -22,7 +24,7 @@ its frames: less noisy than wall time on a shared machine), peak RSS and the ATE
 with --realtime also the frames dropped and the latency from frame time to pose
 (median and 95th percentile) when stats.json reports them. The table gives the
 medians over the repeats, and the ratio of each mode's CPU ms a frame to the first
-mode's."""
+mode's; the mover tracker's median ms a frame (stats.json tracks) where it ran."""
 import argparse
 import json
 import shlex
@@ -97,6 +99,7 @@ def run_once(sgslam, dataset, options, out, realtime, extra):
         "rss": stats["peak_rss_mib"],
         "ate": stats.get("ate", {}).get("rmse"),
         "wall": wall,
+        "movers_ms": stats.get("tracks", {}).get("median_ms"),
     }
     live = stats.get("live")
     if live:
@@ -133,6 +136,7 @@ def main():
     if a.repeats < 1:
         sys.exit("speed: --repeats must be at least 1")
     runs_of = {}  # label -> options, in order
+    binary_of = {}  # label -> its sgslam binary, when not --sgslam
     if a.modes or not a.variant:
         for m in (a.modes or "none,sg").split(","):
             if m:
@@ -141,7 +145,12 @@ def main():
         label, eq, options = v.partition("=")
         if not eq or not label:
             sys.exit(f"speed: --variant {v!r}: expected LABEL=\"OPTIONS\"")
-        runs_of[label] = shlex.split(options)
+        words = shlex.split(options)
+        if words and words[0].startswith("@"):
+            binary_of[label] = words.pop(0)[1:]
+            if not os.access(binary_of[label], os.X_OK):
+                sys.exit(f"speed: --variant {label}: no sgslam binary at {binary_of[label]!r}")
+        runs_of[label] = words
     modes = list(runs_of)
     tmp = None if a.work else tempfile.TemporaryDirectory(prefix="sgslam-speed.")
     work = a.work or tmp.name
@@ -152,11 +161,11 @@ def main():
         for name, path in sequences:
             order = modes[rep % len(modes):] + modes[:rep % len(modes)]
             for mode in order:
-                row = run_once(a.sgslam, path, runs_of[mode], os.path.join(work, "out"), a.realtime, a.extra)
+                row = run_once(binary_of.get(mode, a.sgslam), path, runs_of[mode], os.path.join(work, "out"), a.realtime, a.extra)
                 runs.setdefault((name, mode), []).append(row)
                 print(f"speed: {name} {mode} #{rep + 1}: {row['fps']:.1f} fps, {row['cpu_ms']:.1f} CPU ms/frame, "
                       f"ATE {fmt(row['ate'], 4)}", file=sys.stderr, flush=True)
-    head = ("| sequence | run | fps | frame ms | CPU ms/frame | CPU ratio | peak MiB | ATE m |"
+    head = ("| sequence | run | fps | frame ms | movers ms | CPU ms/frame | CPU ratio | peak MiB | ATE m |"
             + (" dropped | latency ms (median / p95) |" if a.realtime else ""))
     lines = [head, "|" + "---|" * (head.count("|") - 1)]
     for name, _ in sequences:
@@ -165,7 +174,8 @@ def main():
             rs = runs[(name, mode)]
             cpu = median(r["cpu_ms"] for r in rs)
             line = (f"| {name} | {mode} | {fmt(median(r['fps'] for r in rs), 1)} | "
-                    f"{fmt(median(r['frame_ms'] for r in rs), 1)} | {fmt(cpu, 1)} | "
+                    f"{fmt(median(r['frame_ms'] for r in rs), 1)} | {fmt(median(r['movers_ms'] for r in rs), 2)} | "
+                    f"{fmt(cpu, 1)} | "
                     f"{fmt(cpu / base if base else None, 2)} | {fmt(median(r['rss'] for r in rs), 0)} | "
                     f"{fmt(median(r['ate'] for r in rs), 4)} |")
             if a.realtime:
