@@ -307,6 +307,21 @@ nlohmann::json LoopJson(const std::vector<FrameReport>& reports, const SlamSyste
           {"global_ba", GlobalBaJson(system)}};
 }
 
+// The frames whose pose came from the odometry fallback (TrackState::kOdometry): how
+// many, in how many stretches, the longest, and how many stretches ended back in the map.
+nlohmann::json OdometryJson(const std::vector<FrameReport>& reports) {
+  int frames = 0, stretches = 0, longest = 0, rejoined = 0, run = 0;
+  for (std::size_t i = 0; i < reports.size(); ++i) {
+    if (reports[i].state != TrackState::kOdometry) continue;
+    ++frames;
+    run = i > 0 && reports[i - 1].state == TrackState::kOdometry ? run + 1 : 1;
+    stretches += run == 1;
+    longest = std::max(longest, run);
+    rejoined += i + 1 < reports.size() && reports[i + 1].state == TrackState::kOk;
+  }
+  return {{"frames", frames}, {"stretches", stretches}, {"longest", longest}, {"rejoined", rejoined}};
+}
+
 }  // namespace
 
 RunTotals TotalsOf(const std::vector<FrameReport>& reports, const SlamSystem& system, std::size_t map_points) {
@@ -314,6 +329,7 @@ RunTotals TotalsOf(const std::vector<FrameReport>& reports, const SlamSystem& sy
   t.frames = reports.size();
   for (const FrameReport& r : reports) {
     t.tracked += r.state == TrackState::kOk;
+    t.odometry += r.state == TrackState::kOdometry;
     t.lost += r.state == TrackState::kLost;
   }
   t.keyframes = system.NumKeyFrames();
@@ -328,6 +344,7 @@ nlohmann::json SystemStatsJson(const Config& config, const RunTotals& totals, co
   nlohmann::json stats = {{"mode", config.dynamic.mode},
                           {"frames", totals.frames},
                           {"tracked", totals.tracked},
+                          {"odometry", OdometryJson(reports)},
                           {"lost", totals.lost},
                           {"keyframes", totals.keyframes},
                           {"map_points", totals.map_points},

@@ -93,7 +93,7 @@ void PlanRunOutputs(OutputPlan& plan, const Config& config, const std::filesyste
 
 // stats.json. The counts of a finished run.
 struct RunTotals {
-  std::size_t frames = 0, tracked = 0, lost = 0, keyframes = 0, map_points = 0;
+  std::size_t frames = 0, tracked = 0, odometry = 0, lost = 0, keyframes = 0, map_points = 0;
   double median_frame_ms = 0, peak_rss_mib = 0;
 };
 RunTotals TotalsOf(const std::vector<FrameReport>& reports, const SlamSystem& system, std::size_t map_points);

@@ -278,6 +278,7 @@ nlohmann::json RunStats(const RunOptions& o, const Config& config, const TumData
   const RunTotals totals = TotalsOf(loop.reports, system, maps.map_points);
   s.frames = totals.frames;
   s.tracked = totals.tracked;
+  s.odometry = totals.odometry;
   s.lost = totals.lost;
   s.keyframes = totals.keyframes;
   s.map_points = totals.map_points;
@@ -431,7 +432,9 @@ std::string FormatSummary(const RunSummary& s) {
   std::ostringstream o;
   o.setf(std::ios::fixed);
   o.precision(1);
-  o << s.frames << " frames: " << s.tracked << " tracked, " << s.lost << " lost, " << s.keyframes
+  o << s.frames << " frames: " << s.tracked << " tracked, ";
+  if (s.odometry > 0) o << s.odometry << " by odometry, ";
+  o << s.lost << " lost, " << s.keyframes
     << " keyframes, " << s.map_points << " points";
   if (s.ate_rmse) {
     o.precision(4);

@@ -43,7 +43,7 @@ struct RunOptions {
 
 struct RunSummary {
   std::filesystem::path out;
-  std::size_t frames = 0, tracked = 0, lost = 0, keyframes = 0, map_points = 0;
+  std::size_t frames = 0, tracked = 0, odometry = 0, lost = 0, keyframes = 0, map_points = 0;
   double median_frame_ms = 0, fps = 0, peak_rss_mib = 0;
   std::optional<double> ate_rmse;  // when the dataset has groundtruth.txt
   std::size_t ate_pairs = 0;

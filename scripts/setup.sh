@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # Installs the Debian packages sgslam needs (only the missing ones; apt-get update
 # only when something must be installed) and configures and builds a Release build.
-#   scripts/setup.sh [--no-build] [--ros] [--asan|--tsan|--fuzz] [--target T]...
+#   scripts/setup.sh [--no-build] [--ros] [--panel] [--asan|--tsan|--fuzz] [--target T]...
 # Build folder: build, build-asan, build-tsan or build-fuzz (--fuzz: clang-14 and
 # libFuzzer too; scripts/fuzz.sh runs the fuzz targets). --target builds a CMake
 # target (repeat it for more; the demo builds only `sgslam`); without it every
 # target, tests included. --ros also installs Debian's ROS 1 packages, so that the
 # node sgslam_ros and its player are built (ros/, docs/ros.md) and its tests run.
+# --panel installs what the composite generator of scripts/dynamic_panel.sh needs.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -35,6 +36,9 @@ ROS_PACKAGES=(
   python3-opencv python3-numpy rviz xvfb x11-apps x11-utils imagemagick
 )
 
+# The shared composite generator (scripts/dynamic_panel.sh, --panel).
+PANEL_PACKAGES=(python3-numpy python3-opencv python3-scipy)
+
 build=1
 build_dir=build
 cmake_flags=(-DCMAKE_BUILD_TYPE=Release)
@@ -44,6 +48,7 @@ while [ $# -gt 0 ]; do
   case "$arg" in
     --no-build) build=0 ;;
     --ros) PACKAGES+=("${ROS_PACKAGES[@]}") ;;
+    --panel) PACKAGES+=("${PANEL_PACKAGES[@]}") ;;
     --target)
       [ $# -gt 0 ] || { echo "setup.sh: --target needs a target name" >&2; exit 2; }
       targets+=(--target "$1"); shift ;;
@@ -58,7 +63,7 @@ while [ $# -gt 0 ]; do
       cmake_flags=(-DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSGSLAM_FUZZ=ON -DSGSLAM_VIEWER=OFF -DSGSLAM_ROS=OFF
                    -DSGSLAM_BUILD_TESTS=OFF -DSGSLAM_BUILD_BENCH=OFF)
       PACKAGES+=(clang-14 libclang-rt-14-dev) ;;
-    *) echo "setup.sh: unknown option '$arg' (use --no-build, --ros, --asan, --tsan, --fuzz or --target T)" >&2; exit 2 ;;
+    *) echo "setup.sh: unknown option '$arg' (use --no-build, --ros, --panel, --asan, --tsan, --fuzz or --target T)" >&2; exit 2 ;;
   esac
 done
 

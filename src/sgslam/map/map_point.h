@@ -9,6 +9,7 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <memory>
 
@@ -22,6 +23,9 @@ namespace sgslam {
 
 class KeyFrame;
 class Map;
+
+// The id of a tracking-only point that is never in the map (Tracker::TrackOdometry).
+constexpr std::uint64_t kTemporaryPoint = std::numeric_limits<std::uint64_t>::max();
 
 class MapPoint {
  public:

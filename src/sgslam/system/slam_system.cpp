@@ -213,7 +213,7 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
   // keyframes back); a lost frame's boxes are not carried, its pose is unknown.
   if (semantic_) {
     static const std::vector<Detection> kNone;
-    const bool tracked = result.state == TrackState::kOk;
+    const bool tracked = HasPose(result.state);
     semantic_->AddFrame(frame.id, frame.T_c_w, tracked ? frame.features->detections : kNone, images.depth);
   }
   NoteMapSize(report);
@@ -244,7 +244,7 @@ void SlamSystem::UpdateMovers(const Frame& frame, const TrackResult& result, con
                               FrameReport& report) {
   const Stopwatch watch;
   const bool recorded = !records_.empty() && records_.back().frame_id == frame.id;
-  if (result.state != TrackState::kOk || !recorded || moving_.size() != frame.size()) {
+  if (!HasPose(result.state) || !recorded || moving_.size() != frame.size()) {
     movers_->Skip(frame.t);
     report.movers_ms += watch.ElapsedMs();
     return;
@@ -352,7 +352,7 @@ void SlamSystem::RecordPoses(const Frame& frame, const TrackResult& result) {
     PoseRecord& r = records_.back();
     r.T_c_r = result.previous_refined->T_c_w * r.reference->T_w_c();
   }
-  if (result.state == TrackState::kOk && result.reference) {
+  if (HasPose(result.state) && result.reference) {
     records_.push_back({frame.id, frame.t, result.reference, result.T_c_r, frame.T_c_w.Inverse()});
   }
 }
@@ -440,7 +440,7 @@ void SlamSystem::PublishFrame(const Frame& frame, const RgbdImages& images, cons
   s->index = report.index;
   s->t = report.t;
   s->state = report.state;
-  if (report.state == TrackState::kOk) s->T_w_c = frame.T_c_w.Inverse();
+  if (HasPose(report.state)) s->T_w_c = frame.T_c_w.Inverse();
   s->bgr = images.bgr;
   s->keypoints = report.keypoints;
   s->labels.resize(frame.size(), FrameSnapshot::kKept);
@@ -453,7 +453,7 @@ void SlamSystem::PublishFrame(const Frame& frame, const RgbdImages& images, cons
     }
   }
   s->detections = frame.features->detections;
-  if (movers_ && report.state == TrackState::kOk) {
+  if (movers_ && HasPose(report.state)) {
     for (const movers::Track& tr : movers_->tracks()) {
       s->movers.push_back({tr.id, tr.class_name, tr.state, tr.PositionAt(frame.t), tr.velocity, tr.extent});
     }

@@ -26,6 +26,11 @@ constexpr double kDescriptorRatio = 0.7;  // best/second-best ratio, reference k
 constexpr int kMinMotionMatches = 20;     // matches needed to trust the motion model
 constexpr int kMinPoseInliers = 10;       // inliers after pose optimisation (motion / reference)
 constexpr int kMinLocalInliers = 30;      // inliers after local-map tracking
+// The odometry fallback: a pose from the frame before needs this many inliers
+// among the temporary points and the map points it matched (half what the local
+// map asks for: on the dynamic panel 30 gave a pose to 1 of crowd's 6 lost frames,
+// 15 to 3, 12 to all but caught more movers; docs/experiments.md).
+constexpr int kMinOdometryInliers = 15;
 // Keyframes tried per frame while lost without place recognition (loop.enabled
 // false): the newest 5, then the nearest.
 constexpr int kRecoverCandidates = 30;
@@ -75,6 +80,7 @@ const char* ToString(TrackState state) {
   switch (state) {
     case TrackState::kNotInitialized: return "not_initialized";
     case TrackState::kOk: return "ok";
+    case TrackState::kOdometry: return "odometry";
     case TrackState::kLost: return "lost";
   }
   return "?";
@@ -129,6 +135,25 @@ TrackResult Tracker::TrackFrame(Frame& frame, bool mapping_idle, bool mapping_fu
     if (const auto refined = RefinePrevious(frame)) result.previous_refined = TrackResult::Refined{last_frame_.id, *refined};
   }
 
+  if (!ok && config_.odometry_fallback && last_frame_.has_pose && reference_kf_) {
+    std::shared_lock lock(map_.mutex());
+    if (TrackOdometry(frame, result)) {
+      // A pose, not a map match: the map and the keyframes stay as they are.
+      state_ = TrackState::kOdometry;
+      frame.has_pose = true;
+      frame.reference_kf = reference_kf_;
+      result.reference = reference_kf_;
+      result.T_c_r = frame.T_c_w * reference_kf_->T_w_c();
+      velocity_ = frame.T_c_w * last_frame_.T_c_w.Inverse();
+      velocity_dt_ = ToSeconds(frame.t - last_frame_.t);
+      has_velocity_ = last_frame_.id + 1 == frame.id;
+      last_T_c_r_ = result.T_c_r;
+      before_last_.reset();
+      last_frame_ = frame;
+      result.state = state_;
+      return result;
+    }
+  }
   if (!ok) {
     // Lost: the map stays untouched; the next frame starts from the last good pose.
     state_ = TrackState::kLost;
@@ -138,6 +163,11 @@ TrackResult Tracker::TrackFrame(Frame& frame, bool mapping_idle, bool mapping_fu
     return result;
   }
   state_ = TrackState::kOk;
+  // Back from odometry: the temporary points the motion model matched are no map
+  // points; the keyframe decision and the next frame see only the map's.
+  for (auto& p : frame.map_points) {
+    if (p && p->id == kTemporaryPoint) p.reset();
+  }
   frame.has_pose = true;
   frame.reference_kf = reference_kf_;
   velocity_ = frame.T_c_w * last_frame_.T_c_w.Inverse();
@@ -179,11 +209,16 @@ bool Tracker::TrackAgainstMap(Frame& frame, TrackResult& result, std::uint64_t& 
   }
   bool ok = false;
   if (state_ == TrackState::kOk) {
-    ok = (has_velocity_ && TrackWithMotionModel(frame, result)) || TrackReferenceKeyFrame(frame, reference_kf_, result);
+    ok = ((has_velocity_ && TrackWithMotionModel(frame, result)) || TrackReferenceKeyFrame(frame, reference_kf_, result)) &&
+         TrackLocalMap(frame, result);
+  } else if (state_ == TrackState::kOdometry) {
+    // The last pose came from odometry: the motion model on its map points and
+    // temporary points, then the local map; else a place the map knows.
+    ok = has_velocity_ && TrackWithMotionModel(frame, result) && TrackLocalMap(frame, result);
+    if (!ok) ok = (places_ ? Relocalise(frame, result) : Recover(frame, result)) && TrackLocalMap(frame, result);
   } else {
-    ok = places_ ? Relocalise(frame, result) : Recover(frame, result);
+    ok = (places_ ? Relocalise(frame, result) : Recover(frame, result)) && TrackLocalMap(frame, result);
   }
-  if (ok) ok = TrackLocalMap(frame, result);
   if (ok) {
     result.reference = reference_kf_;
     result.T_c_r = frame.T_c_w * reference_kf_->T_w_c();
@@ -342,6 +377,45 @@ bool Tracker::TrackReferenceKeyFrame(Frame& frame, const std::shared_ptr<KeyFram
   if (inliers < kMinPoseInliers) return false;
   reference_kf_ = keyframe;
   return true;
+}
+
+bool Tracker::TrackOdometry(Frame& frame, TrackResult& result) {
+  Frame last = last_frame_;  // its map points, and temporary ones for its other kept keypoints
+  const Features& lf = *last.features;
+  const SE3 T_w_l = last.T_c_w.Inverse();
+  for (std::size_t i = 0; i < last.map_points.size(); ++i) {
+    auto& p = last.map_points[i];
+    if (p && !p->bad()) continue;
+    if (lf.depth[i] <= 0 || lf.depth[i] > th_depth_ || !last.usable(i)) {
+      p.reset();
+      continue;
+    }
+    MapPoint::Appearance a;
+    const Eigen::Vector3d p_w = T_w_l * lf.Unproject(i);
+    a.normal = (p_w - last.center()).normalized();
+    std::copy_n(lf.descriptor(i), a.descriptor.size(), a.descriptor.begin());
+    const double d = lf.depth[i];
+    const double level_factor = lf.scale->scale[static_cast<std::size_t>(lf.keys_un[i].octave)];
+    a.max_distance = d * level_factor;
+    a.min_distance = a.max_distance / lf.scale->scale.back();
+    p = std::make_shared<MapPoint>(kTemporaryPoint, 0, last.t, p_w, a);
+    p->track.trusted = true;  // kept by dynamic rejection in the frame before: as trusted as a new map point gets
+  }
+  frame.T_c_w = (has_velocity_ ? velocity_ : SE3()) * last.T_c_w;
+  std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
+  int n = matcher::SearchByProjection(frame, last, kMotionSearchRadius, rejected_match_distance_);
+  if (n < kMinOdometryInliers) {
+    std::fill(frame.map_points.begin(), frame.map_points.end(), nullptr);
+    n = matcher::SearchByProjection(frame, last, 2 * kMotionSearchRadius, rejected_match_distance_);
+  }
+  result.matches = n;
+  if (n < kMinOdometryInliers) return false;
+  OptimizePose(frame);
+  DiscardOutliers(frame);
+  const int inliers = static_cast<int>(
+      std::count_if(frame.map_points.begin(), frame.map_points.end(), [](const auto& p) { return p != nullptr; }));
+  result.inliers = inliers;
+  return inliers >= kMinOdometryInliers;
 }
 
 bool Tracker::Recover(Frame& frame, TrackResult& result) {

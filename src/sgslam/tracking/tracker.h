@@ -23,8 +23,12 @@
 
 namespace sgslam {
 
-enum class TrackState { kNotInitialized, kOk, kLost };
+// kOk: tracked in the map; kOdometry: the map could not be matched, the pose comes
+// from the frame before (visual odometry on its kept keypoints with depth: the map
+// is not touched, no keyframe is made; docs/tracking-states.md); kLost: no pose.
+enum class TrackState { kNotInitialized, kOk, kOdometry, kLost };
 const char* ToString(TrackState state);
+inline bool HasPose(TrackState state) { return state == TrackState::kOk || state == TrackState::kOdometry; }
 
 struct TrackResult {
   TrackState state = TrackState::kNotInitialized;
@@ -96,13 +100,13 @@ class Tracker {
   // The next frame's pose as the motion model predicts it (the last frame's
   // without a velocity); none unless tracking is OK.
   std::optional<SE3> PredictedPose() const {
-    if (state_ != TrackState::kOk || !last_frame_.has_pose) return std::nullopt;
+    if (!HasPose(state_) || !last_frame_.has_pose) return std::nullopt;
     return has_velocity_ ? velocity_ * last_frame_.T_c_w : last_frame_.T_c_w;
   }
   // The camera-frame angular velocity (rad/s) of that prediction, for the rolling
   // shutter correction of the next frame's keypoints; none when there is none.
   std::optional<Eigen::Vector3d> PredictedAngularVelocity() const {
-    if (state_ != TrackState::kOk || !has_velocity_) return std::nullopt;
+    if (!HasPose(state_) || !has_velocity_) return std::nullopt;
     return AngularVelocity(velocity_, velocity_dt_);
   }
 
@@ -114,6 +118,11 @@ class Tracker {
   bool TrackWithMotionModel(Frame& frame, TrackResult& result);
   bool TrackReferenceKeyFrame(Frame& frame, const std::shared_ptr<KeyFrame>& keyframe, TrackResult& result);
   bool Recover(Frame& frame, TrackResult& result);
+  // The visual-odometry fallback (TrackState::kOdometry): the last frame's kept
+  // keypoints with depth that match no map point become temporary points
+  // (ORB-SLAM2's localisation mode does the same), matched by projection from the
+  // motion model's pose and fitted; false below kMinOdometryInliers. Map lock held.
+  bool TrackOdometry(Frame& frame, TrackResult& result);
   // ORB-SLAM2's relocalisation: candidates from the place-recognition database,
   // bag-of-words matching, PnP RANSAC, pose optimisation and a guided search.
   bool Relocalise(Frame& frame, TrackResult& result);

@@ -44,10 +44,20 @@ struct TrackingRefinements {
 };
 
 struct TrackingConfig {
+  // When the map cannot be matched (movers cover most of the image, the camera
+  // looks where the map has no points), the pose comes from the frame before by
+  // visual odometry on its kept keypoints with depth until the map is matched
+  // again (frames.csv state `odometry`). Off (the default, ORB-SLAM2's way): such a
+  // frame has no pose. Off by default while keypoints the rejection keeps on a
+  // mover that fills the image (a person close by, one who shifts slowly) can carry
+  // the odometry along with it (docs/tracking-states.md).
+  bool odometry_fallback = false;
   TrackingRefinements refinements;
 
   template <class V>
   void Visit(V&& v) {
+    v("odometry_fallback", odometry_fallback,
+      "a frame the map cannot be matched in takes its pose from the frame before (visual odometry) instead of none");
     v("refinements", refinements, "beyond ORB-SLAM2's tracking, each switchable (docs/algorithm1.md)");
   }
   void Validate(ConfigChecker&) const {}
