@@ -117,6 +117,9 @@ class Tracker {
   bool TrackAgainstMap(Frame& frame, TrackResult& result, std::uint64_t& corrections);
   bool TrackWithMotionModel(Frame& frame, TrackResult& result);
   bool TrackReferenceKeyFrame(Frame& frame, const std::shared_ptr<KeyFrame>& keyframe, TrackResult& result);
+  // A lost frame back into the map: Recover, then (with place recognition) Relocalise.
+  bool RegainMap(Frame& frame, TrackResult& result);
+  // The keyframes near where the camera was lost, by descriptor and PnP RANSAC.
   bool Recover(Frame& frame, TrackResult& result);
   // The visual-odometry fallback (TrackState::kOdometry): the last frame's kept
   // keypoints with depth that match no map point become temporary points
