@@ -71,6 +71,9 @@ SlamSystem::SlamSystem(const Config& config, bool sequential, std::unique_ptr<De
                                                  sequential, MakeKeyFrameDetector(config, dynamic_.has_detector()));
   }
   if (places_) loop_ = std::make_unique<LoopCloser>(map_, places_);
+  tracker_.SetMoverBoxes([classes = ClassTable(config.detector)](const Detection& d) {
+    return d.carried > 0 || d.class_name == movers::kUnknownClass || classes.is_dynamic(d.class_name);
+  });
   if (dynamic_.mode() != dynamic::Mode::kNone) {
     movers_ = std::make_unique<movers::MoverTracker>(camera_, ClassTable(config.detector));
   }

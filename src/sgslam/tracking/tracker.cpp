@@ -386,7 +386,10 @@ bool Tracker::TrackOdometry(Frame& frame, TrackResult& result) {
   for (std::size_t i = 0; i < last.map_points.size(); ++i) {
     auto& p = last.map_points[i];
     if (p && !p->bad()) continue;
-    if (lf.depth[i] <= 0 || lf.depth[i] > th_depth_ || !last.usable(i)) {
+    const bool in_mover = mover_box_ && std::any_of(lf.detections.begin(), lf.detections.end(), [&](const Detection& d) {
+      return d.box.contains(lf.keys[i].pt) && mover_box_(d);
+    });
+    if (in_mover || lf.depth[i] <= 0 || lf.depth[i] > th_depth_ || !last.usable(i)) {
       p.reset();
       continue;
     }

@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -80,6 +81,10 @@ class Tracker {
   // count). Before the first frame, the map is one made elsewhere (loaded): the
   // first frames are relocalised in it instead of starting a map. Between Track calls.
   void SetLocalizationOnly(bool on) { localization_only_ = on; }
+  // Which of a frame's boxes hold a mover (a moving-object class, a carried box, a
+  // track's predicted box): the odometry fallback makes no temporary point in them.
+  using MoverBoxFn = std::function<bool(const Detection&)>;
+  void SetMoverBoxes(MoverBoxFn fn) { mover_box_ = std::move(fn); }
   bool localization_only() const { return localization_only_; }
 
 
@@ -152,6 +157,7 @@ class Tracker {
   const int rejected_match_distance_;  // bits, refinements.rejected_matches; 0: never
   const TrustOptions trust_;
   Map& map_;
+  MoverBoxFn mover_box_;
   const std::shared_ptr<const KeyFrameDatabase> places_;
   LocalMap local_map_;
   TrackState state_ = TrackState::kNotInitialized;

@@ -46,12 +46,11 @@ struct TrackingRefinements {
 struct TrackingConfig {
   // When the map cannot be matched (movers cover most of the image, the camera
   // looks where the map has no points), the pose comes from the frame before by
-  // visual odometry on its kept keypoints with depth until the map is matched
-  // again (frames.csv state `odometry`). Off (the default, ORB-SLAM2's way): such a
-  // frame has no pose. Off by default while keypoints the rejection keeps on a
-  // mover that fills the image (a person close by, one who shifts slowly) can carry
-  // the odometry along with it (docs/tracking-states.md).
-  bool odometry_fallback = false;
+  // visual odometry on its kept keypoints with depth outside the movers' boxes, until
+  // the map is matched again (frames.csv state `odometry`). Off: such a frame has no
+  // pose (ORB-SLAM2's way). On by default: measured on the dynamic panel
+  // (docs/tracking-states.md).
+  bool odometry_fallback = true;
   TrackingRefinements refinements;
 
   template <class V>
