@@ -58,6 +58,37 @@ void AddWireBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, visualizat
   }
 }
 
+// The outline (LINE_LIST) of the axis-aligned box lo..hi, lines `width` m wide.
+visualization_msgs::Marker WireBox(const std_msgs::Header& header, const std::string& ns, int id,
+                                   const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double width,
+                                   const std_msgs::ColorRGBA& colour) {
+  visualization_msgs::Marker box;
+  box.header = header;
+  box.ns = ns;
+  box.id = id;
+  box.type = visualization_msgs::Marker::LINE_LIST;
+  box.action = visualization_msgs::Marker::ADD;
+  box.pose.orientation.w = 1;
+  box.scale.x = width;
+  box.color = colour;
+  AddWireBox(lo, hi, box);
+  return box;
+}
+
+// A text `gap` m above a box made by WireBox (up is -y), `size` m high, in the box's colour.
+visualization_msgs::Marker LabelAbove(const visualization_msgs::Marker& box, const std::string& ns,
+                                      const Eigen::Vector3d& centre, double top_y, double gap, double size,
+                                      std::string text) {
+  visualization_msgs::Marker label = box;
+  label.ns = ns;
+  label.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
+  label.points.clear();
+  label.pose.position = Point(centre.x(), top_y - gap, centre.z());
+  label.scale.z = size;
+  label.text = std::move(text);
+  return label;
+}
+
 // What a marker array starts with so that the markers it no longer holds disappear.
 visualization_msgs::Marker DeleteAll(const std::string& frame, const ros::Time& stamp) {
   visualization_msgs::Marker clear;
@@ -273,26 +304,12 @@ visualization_msgs::MarkerArray ObjectMarkers(const std::vector<ObjectEstimate>&
   array.markers.push_back(clear);
   for (const ObjectEstimate& o : objects) {
     if (!o.exported) continue;
-    visualization_msgs::Marker box;
-    box.header = clear.header;
-    box.ns = "objects";
-    box.id = o.id;
-    box.type = visualization_msgs::Marker::LINE_LIST;
-    box.action = visualization_msgs::Marker::ADD;
-    box.pose.orientation.w = 1;
-    box.scale.x = 0.01;
-    box.color = Colour(0.3f, 0.64f, 1.f);
     const Eigen::Vector3d lo = o.centroid - o.size / 2, hi = o.centroid + o.size / 2;
-    AddWireBox(lo, hi, box);
+    const visualization_msgs::Marker box = WireBox(clear.header, "objects", o.id, lo, hi, 0.01, Colour(0.3f, 0.64f, 1.f));
     array.markers.push_back(box);
-    visualization_msgs::Marker label = box;
-    label.ns = "labels";
-    label.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
-    label.points.clear();
-    label.pose.position = Point(o.centroid.x(), lo.y() - 0.05, o.centroid.z());  // above the box: up is -y
-    label.scale.z = 0.1;
+    visualization_msgs::Marker label =
+        LabelAbove(box, "labels", o.centroid, lo.y(), 0.05, 0.1, fmt::format("{} {:.2f}", o.class_name, o.confidence));
     label.color = Colour(1.f, 1.f, 1.f);
-    label.text = fmt::format("{} {:.2f}", o.class_name, o.confidence);
     array.markers.push_back(label);
   }
   return array;
@@ -322,25 +339,11 @@ visualization_msgs::MarkerArray MoverMarkers(const std::vector<MoverSnapshot>& m
   for (const MoverSnapshot& m : movers) {
     if (m.state == movers::TrackState::kTentative) continue;
     const bool lost = m.state == movers::TrackState::kLost;
-    visualization_msgs::Marker box;
-    box.header = clear.header;
-    box.ns = "movers";
-    box.id = m.id;
-    box.type = visualization_msgs::Marker::LINE_LIST;
-    box.action = visualization_msgs::Marker::ADD;
-    box.pose.orientation.w = 1;
-    box.scale.x = 0.02;
-    box.color = TrackColour(m.id, lost);
     const Eigen::Vector3d lo = m.position - m.extent / 2, hi = m.position + m.extent / 2;
-    AddWireBox(lo, hi, box);
+    const visualization_msgs::Marker box = WireBox(clear.header, "movers", m.id, lo, hi, 0.02, TrackColour(m.id, lost));
     array.markers.push_back(box);
-    visualization_msgs::Marker label = box;
-    label.ns = "mover_labels";
-    label.type = visualization_msgs::Marker::TEXT_VIEW_FACING;
-    label.points.clear();
-    label.pose.position = Point(m.position.x(), lo.y() - 0.08, m.position.z());  // above the box: up is -y
-    label.scale.z = 0.12;
-    label.text = fmt::format("{} {}{}", m.id, m.class_name, lost ? " (lost)" : "");
+    const visualization_msgs::Marker label = LabelAbove(box, "mover_labels", m.position, lo.y(), 0.08, 0.12,
+                                                        fmt::format("{} {}{}", m.id, m.class_name, lost ? " (lost)" : ""));
     array.markers.push_back(label);
     const MoverTrails::Trail* trail = trails.Of(m.id);
     if (!trail || trail->size() < 2) continue;  // a line strip needs two points
