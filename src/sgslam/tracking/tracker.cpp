@@ -386,10 +386,12 @@ bool Tracker::TrackOdometry(Frame& frame, TrackResult& result) {
   for (std::size_t i = 0; i < last.map_points.size(); ++i) {
     auto& p = last.map_points[i];
     if (p && !p->bad()) continue;
-    const bool in_mover = mover_box_ && std::any_of(lf.detections.begin(), lf.detections.end(), [&](const Detection& d) {
-      return d.box.contains(lf.keys[i].pt) && mover_box_(d);
-    });
-    if (in_mover || lf.depth[i] <= 0 || lf.depth[i] > th_depth_ || !last.usable(i)) {
+    const auto in_mover = [&] {
+      return mover_box_ && std::any_of(lf.detections.begin(), lf.detections.end(), [&](const Detection& d) {
+               return d.box.contains(lf.keys[i].pt) && mover_box_(d);
+             });
+    };
+    if (lf.depth[i] <= 0 || lf.depth[i] > th_depth_ || !last.usable(i) || in_mover()) {
       p.reset();
       continue;
     }
@@ -424,9 +426,8 @@ bool Tracker::TrackOdometry(Frame& frame, TrackResult& result) {
 bool Tracker::RegainMap(Frame& frame, TrackResult& result) {
   // The keyframes of where the camera was lost first: most losses are short (movers
   // cover the view for a moment) and end where they began. Place recognition alone
-  // asks for 50 inliers from one keyframe and left frames lost that the local
-  // candidates place: on the dynamic panel crowd lost 6 frames at 0.0151 m with it,
-  // 3 at 0.0140 m with this order, as with loop.enabled false (docs/tracking-states.md).
+  // asks for 50 inliers from one keyframe and left lost frames that the local
+  // candidates place, at a cost in accuracy (docs/tracking-states.md, "Back into the map").
   return Recover(frame, result) || (places_ && Relocalise(frame, result));
 }
 
