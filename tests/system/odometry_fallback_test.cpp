@@ -80,41 +80,44 @@ std::optional<fs::path> Crowd(const fs::path& shared, std::string& why) {
   });
 }
 
-TEST(OdometryFallback, APoseForEveryFrameAmongPeopleCloseBy) {
-  SGSLAM_REQUIRE_SHARED(source, "data/tum_fr1_rpy");
-  const fs::path shared = source.parent_path().parent_path();
-  std::string why;
-  const auto seq = Crowd(shared, why);
-  if (!seq) GTEST_SKIP() << why;
+// Both suites run on the composite; skipped where it cannot be made.
+class OnTheCrowd : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    SGSLAM_REQUIRE_SHARED(source, "data/tum_fr1_rpy");
+    std::string why;
+    const auto made = Crowd(source.parent_path().parent_path(), why);
+    if (!made) GTEST_SKIP() << why;
+    seq_ = *made;
+  }
+  fs::path seq_;
+};
+using OdometryFallback = OnTheCrowd;
+using RegainMap = OnTheCrowd;
 
-  const Outcome off = RunOn(*seq, /*fallback=*/false);
+TEST_F(OdometryFallback, APoseForEveryFrameAmongPeopleCloseBy) {
+  const Outcome off = RunOn(seq_, /*fallback=*/false);
   EXPECT_EQ(off.frames, 40u);
   EXPECT_EQ(off.odometry, 0u);
   EXPECT_GE(off.lost, 1u) << "without the fallback the camera is lost among the people (frames 12 and 14 on 2026-12-06)";
 
-  const Outcome on = RunOn(*seq, /*fallback=*/true);
+  const Outcome on = RunOn(seq_, /*fallback=*/true);
   EXPECT_EQ(on.frames, 40u);
   EXPECT_EQ(on.lost, 0u);
   EXPECT_GE(on.odometry, 1u);
   EXPECT_EQ(on.first_odometry, off.first_lost) << "odometry takes over where the map was lost";
   EXPECT_TRUE(on.map_problems.empty()) << on.map_problems.front();
-  const auto ate = eval::ComputeAte(ReadTumTrajectory(*seq / "groundtruth.txt"), on.trajectory, FromSeconds(0.02));
+  const auto ate = eval::ComputeAte(ReadTumTrajectory(seq_ / "groundtruth.txt"), on.trajectory, FromSeconds(0.02));
   EXPECT_EQ(ate.stats.count, 40u) << "every frame has a pose in trajectory.txt";
   EXPECT_LT(ate.stats.rmse, 0.05);
 }
 
-TEST(RegainMap, PlaceRecognitionLosesNoMoreThanTheLocalSearch) {
-  SGSLAM_REQUIRE_SHARED(source, "data/tum_fr1_rpy");
-  const fs::path shared = source.parent_path().parent_path();
-  std::string why;
-  const auto seq = Crowd(shared, why);
-  if (!seq) GTEST_SKIP() << why;
-
-  const Outcome local = RunOn(*seq, /*fallback=*/false, /*loop=*/false);
-  const Outcome places = RunOn(*seq, /*fallback=*/false, /*loop=*/true);
+TEST_F(RegainMap, PlaceRecognitionLosesNoMoreThanTheLocalSearch) {
+  const Outcome local = RunOn(seq_, /*fallback=*/false, /*loop=*/false);
+  const Outcome places = RunOn(seq_, /*fallback=*/false, /*loop=*/true);
   EXPECT_LE(local.lost, 3u) << "a short loss among the people (2 frames on 2026-12-06)";
   EXPECT_LE(places.lost, local.lost);
-  const Trajectory truth = ReadTumTrajectory(*seq / "groundtruth.txt");
+  const Trajectory truth = ReadTumTrajectory(seq_ / "groundtruth.txt");
   const double ate_local = eval::ComputeAte(truth, local.trajectory, FromSeconds(0.02)).stats.rmse;
   const double ate_places = eval::ComputeAte(truth, places.trajectory, FromSeconds(0.02)).stats.rmse;
   EXPECT_LE(ate_places, 1.03 * ate_local) << "place recognition must not cost accuracy";
