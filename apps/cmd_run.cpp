@@ -53,6 +53,9 @@ Action AddRunCommand(CLI::App& root) {
                 "With --load-map: track in the map without adding keyframes or points (dynamic rejection stays on)")
       ->needs(load);
   cmd->add_option("--save-map", o->save_map, "Save the whole map to FILE at the end (and on SIGUSR1 during the run)");
+  cmd->add_option("--mcap", o->mcap,
+                  "Record the run to FILE as MCAP for Foxglove: camera pose, image with keypoints and boxes, "
+                  "trajectory, map, dense cloud, objects, mover tracks (docs/foxglove.md)");
   auto viewer_text = std::make_shared<std::string>();
   CLI::Option* viewer =
       cmd->add_option("--viewer", *viewer_text,

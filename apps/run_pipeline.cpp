@@ -12,6 +12,7 @@
 #include <sstream>
 #include <utility>
 
+#include "mcap_recorder.h"
 #include "progress.h"
 #include "run_outputs.h"
 #include "run_viewer.h"
@@ -89,13 +90,15 @@ fs::path MakeOutputFolder(const RunOptions& o, const RunConfig& rc, const TumDat
   const bool map_in_place = !o.load_map.empty() && !o.save_map.empty() && fs::equivalent(o.load_map, o.save_map, ec);
   if (!map_in_place) plan.Reads(o.load_map, "the map given with --load-map");  // saved over on purpose, else kept
   if (!o.save_map.empty()) plan.Writes(o.save_map, "--save-map", std::string(mapfile::kFileMagic));
+  if (!o.mcap.empty()) plan.Writes(o.mcap, "--mcap", std::string(mcap::kFileMagic));
   plan.Check();
   fs::create_directories(out, ec);
   if (ec || !fs::is_directory(out)) throw InputError("cannot create output folder " + out.string());
-  if (!o.save_map.empty()) {
-    const fs::path dir = fs::path(o.save_map).has_parent_path() ? fs::path(o.save_map).parent_path() : fs::path(".");
+  for (const auto& [option, file] : {std::pair{"--save-map", o.save_map}, {"--mcap", o.mcap}}) {
+    if (file.empty()) continue;
+    const fs::path dir = fs::path(file).has_parent_path() ? fs::path(file).parent_path() : fs::path(".");
     fs::create_directories(dir, ec);
-    if (!fs::is_directory(dir, ec)) throw InputError("--save-map " + o.save_map + ": cannot create folder " + dir.string());
+    if (!fs::is_directory(dir, ec)) throw InputError(std::string(option) + " " + file + ": cannot create folder " + dir.string());
   }
   return out;
 }
@@ -183,7 +186,8 @@ class FrameSource {
 // Streams the dataset through the system: the frames at their timestamps' pace
 // with o.realtime, the progress bar, the truth scores, Ctrl-C and SIGUSR1.
 FrameLoop RunFrames(const RunOptions& o, const TumDataset& dataset, const Config& config, SlamSystem& system,
-                    TruthScorer& truth, const fs::path& out, const Stopwatch& wall, RunViewer* viewer) {
+                    TruthScorer& truth, const fs::path& out, const Stopwatch& wall, RunViewer* viewer,
+                    McapRecorder* recorder) {
   FrameLoop loop;
   FrameStream stream(dataset, config.camera, kPrefetchFrames, o.max_frames);
   ProgressBar progress(stream.size());
@@ -196,6 +200,7 @@ FrameLoop RunFrames(const RunOptions& o, const TumDataset& dataset, const Config
         }
       }
       FrameReport& r = loop.reports.emplace_back(system.Process(*frame));
+      if (recorder) recorder->AddFrame();
       if (o.realtime) {
         loop.latency_ms.push_back(
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - source.arrival()).count());
@@ -397,14 +402,21 @@ RunSummary RunSequence(const RunOptions& o) {
                                                         {"pausable", true}},
                                          std::move(truth), o.viewer_origins);
   }
+  std::unique_ptr<McapRecorder> recorder;  // likewise
+  if (!o.mcap.empty()) recorder = std::make_unique<McapRecorder>(o.mcap, system, config.camera);
   TruthScorer truth(o.dataset);
   const Stopwatch wall;
-  FrameLoop loop = RunFrames(o, dataset, config, system, truth, s.out, wall, viewer.get());
+  FrameLoop loop = RunFrames(o, dataset, config, system, truth, s.out, wall, viewer.get(), recorder.get());
   system.Finish();
   const double seconds = wall.ElapsedMs() * 1e-3;
   const bool map_saved = SaveMapAtEnd(o, system);  // before the export filters the semantic clouds
 
   FailedOutputs failed;
+  if (recorder) {
+    failed.Try("--mcap " + o.mcap, [&] {
+      if (const std::string error = recorder->Finish(); !error.empty()) throw InputError(error);
+    });
+  }
   const RunMaps maps = WriteOutputs(o, config, dataset, loop, system, truth, has_detector, s.out, failed);
   const nlohmann::json stats = RunStats(o, config, dataset, loop, system, maps, truth, seconds, s);
   s.stopped_by = loop.stopped_by;

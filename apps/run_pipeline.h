@@ -34,6 +34,7 @@ struct RunOptions {
   int viewer_port = -1;
   std::string viewer_address = "127.0.0.1";
   std::vector<std::string> viewer_origins;  // --viewer-origin: pages elsewhere allowed (a name, a proxy)
+  std::string mcap;  // --mcap FILE: the run recorded for Foxglove (mcap_recorder.h); empty: none
   bool print_objects = true;  // the end-of-run object table on stdout
   // Programmatic overrides after the file and the options above (the demo's
   // comparison runs); `tweak_name` is added to the configuration's source.

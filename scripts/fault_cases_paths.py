@@ -377,3 +377,25 @@ def _(t):
     config = write_config(t, f"detector: {{backend: file, detections_file: {t.path('out', 'detections.txt')}}}\n")
     t.writable.add(t.path("out"))
     t.sgslam("run", "--dataset", ds, "--mode", "sg", "--config", config, "--out", t.path("out"))
+
+
+# --- --mcap ----------------------------------------------------------------
+
+@case("mcap-existing-file", "--mcap an existing text file of the user's (not an MCAP file)", 1,
+      r"--mcap .*notes\.txt exists and is not a file this command writes", short=True)
+def _(t):
+    notes = keep(t, "notes.txt")
+    t.run(t.dataset(), "--mcap", notes)
+    unchanged(t, notes, "notes.txt")
+
+
+@case("mcap-is-output", "--mcap OUT/trajectory.txt", 1, r"--mcap .*trajectory\.txt is also the run's trajectory\.txt")
+def _(t):
+    t.run(t.dataset(), "--mcap", t.path("out", "trajectory.txt"))
+
+
+@case("mcap-in-a-file", "--mcap in a folder that is a file of the user's", 1, r"--mcap .*notes\.txt")
+def _(t):
+    notes = keep(t, "notes.txt")
+    t.run(t.dataset(), "--mcap", os.path.join(notes, "run.mcap"))
+    unchanged(t, notes, "notes.txt")

@@ -240,6 +240,32 @@ def _(t):
             t.problem("lost", f"{small} (a few KB) not written beside the outputs that did not fit")
 
 
+@case("mcap-disk-full", "--mcap with the file size limit of 150 KB (as a full disk): the recording stops, "
+      "the run and its other outputs go on", 1, r"outputs not written: .*--mcap", short=True)
+def _(t):
+    t.writable.add(t.path("rec.mcap"))
+    t.run(t.dataset(), "--max-frames", 20, "--sequential", "--mcap", t.path("rec.mcap"), frames=(20, 20),
+          limits=[(resource.RLIMIT_FSIZE, 150_000)])
+    for small in ("objects.json", "trajectory.txt"):
+        if not os.path.isfile(t.path("out", small)):
+            t.problem("lost", f"{small} not written beside the recording that did not fit")
+
+
+@case("mcap-sigint", "Ctrl-C during a run with --mcap: the recording is finished (summary, footer)", 130,
+      r"interrupted by SIGINT")
+def _(t):
+    rec = t.path("rec.mcap")
+    t.writable.add(rec)
+    t.run(t.dataset(), "--realtime", "--mcap", rec, frames=(1, BASE_FRAMES - 1),
+          driver=when_log(STARTED, 0.5, SIG.SIGINT))
+    with open(rec, "rb") as f:
+        data = f.read()
+    magic = b"\x89MCAP0\r\n"
+    # The footer (opcode 2, length 20) just before the closing magic.
+    if not (data.startswith(magic) and data.endswith(magic) and data[-37] == 2):
+        t.problem("lost", "the recording is not finished: no footer and closing magic")
+
+
 @case("stdin-closed", "standard input closed", 0)
 def _(t):
     t.run(t.dataset(), "--max-frames", 8, frames=(8, 8), close_fds=(0,))

@@ -14,7 +14,7 @@ cd "$(dirname "$0")/.."
 PACKAGES=(
   cmake g++ make pkg-config
   libeigen3-dev libopencv-dev libceres-dev liboctomap-dev
-  libyaml-cpp-dev libcli11-dev libspdlog-dev nlohmann-json3-dev libssl-dev
+  libyaml-cpp-dev libcli11-dev libspdlog-dev nlohmann-json3-dev libssl-dev libzstd-dev
   libgtest-dev libbenchmark-dev libcereal-dev
   darknet  # only for /usr/share/darknet/data/person.jpg, the detector test's real image
   python3  # scripts/ablation.sh tables

@@ -98,18 +98,9 @@ visualization_msgs::Marker DeleteAll(const std::string& frame, const ros::Time& 
   return clear;
 }
 
-// A mover track's colour: hues a golden ratio of the circle apart from one id to
-// the next (tracks born together differ most), none in the band of the objects'
-// blue; a lost track's dimmer.
 std_msgs::ColorRGBA TrackColour(int id, bool lost) {
-  const double turn = std::fmod(id * 0.6180339887, 1.0);
-  const double hue = std::fmod(0.72 + 0.8 * turn, 1.0) * 6;  // in sextants from red: 3.1-4.3 (blue) left out
-  const double s = 0.8, v = lost ? 0.5 : 1.0;
-  const auto channel = [&](double n) {
-    const double k = std::fmod(n + hue, 6.0);
-    return static_cast<float>(v - v * s * std::max(0.0, std::min({k, 4 - k, 1.0})));
-  };
-  return Colour(channel(5), channel(3), channel(1), lost ? 0.6f : 1.f);
+  const std::array<float, 4> c = sgslam::TrackColour(id, lost);
+  return Colour(c[0], c[1], c[2], c[3]);
 }
 
 // A colour from blue (low) through green to red (high), t in [0, 1].
@@ -313,22 +304,6 @@ visualization_msgs::MarkerArray ObjectMarkers(const std::vector<ObjectEstimate>&
     array.markers.push_back(label);
   }
   return array;
-}
-
-void MoverTrails::Update(const std::vector<MoverSnapshot>& movers, Timestamp t) {
-  std::map<int, Trail> kept;
-  for (const MoverSnapshot& m : movers) {
-    Trail& trail = kept[m.id];
-    if (auto it = trails_.find(m.id); it != trails_.end()) trail = std::move(it->second);
-    trail.emplace_back(t, m.position);
-    while (t - trail.front().first > FromSeconds(kSeconds)) trail.pop_front();
-  }
-  trails_ = std::move(kept);
-}
-
-const MoverTrails::Trail* MoverTrails::Of(int id) const {
-  const auto it = trails_.find(id);
-  return it == trails_.end() ? nullptr : &it->second;
 }
 
 visualization_msgs::MarkerArray MoverMarkers(const std::vector<MoverSnapshot>& movers, const MoverTrails& trails,

@@ -24,6 +24,7 @@
 #include "sgslam/common/se3.h"
 #include "sgslam/common/time.h"
 #include "sgslam/semantic/objects.h"
+#include "sgslam/system/mover_trails.h"
 #include "sgslam/system/snapshot.h"
 
 namespace sgslam::ros_bridge {
@@ -69,24 +70,6 @@ sensor_msgs::PointCloud2 DenseCloud(const MapSnapshot& map, const std::string& f
 // DELETEALL so that objects merged away disappear.
 visualization_msgs::MarkerArray ObjectMarkers(const std::vector<ObjectEstimate>& objects, const std::string& frame,
                                               const ros::Time& stamp);
-// Each mover track's recent positions, for its trail: the last kSeconds of them,
-// forgotten with the track.
-class MoverTrails {
- public:
-  static constexpr double kSeconds = 3.0;
-  using Trail = std::deque<std::pair<Timestamp, Eigen::Vector3d>>;
-
-  // The tracks of a tracked frame at time t (every state: a tentative track's path
-  // is there when it is confirmed). A frame without a pose has no tracks and is not
-  // given: it would forget them all.
-  void Update(const std::vector<MoverSnapshot>& movers, Timestamp t);
-  // Oldest first; null for a track not seen.
-  const Trail* Of(int id) const;
-
- private:
-  std::map<int, Trail> trails_;
-};
-
 // The confirmed and lost mover tracks: a wire box of the extent at the position, an
 // "id class" label above it and the trail of its past positions, in a colour per id
 // (lost ones dimmer, "(lost)" in the label); after a DELETEALL so that tracks gone

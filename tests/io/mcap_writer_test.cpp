@@ -6,6 +6,8 @@
 #include <iterator>
 #include <map>
 
+#include <zstd.h>
+
 #include "sgslam/common/error.h"
 #include "support/test_support.h"
 
@@ -73,6 +75,7 @@ TEST(Mcap, ChunksIndexesAndSummaryPointWhereTheySay) {
   {
     WriterOptions small;
     small.chunk_size = 256;  // several chunks
+    small.zstd = false;      // stored, for the records to be read in place (compressed below)
     Writer w(path, small);
     const auto pose = w.AddSchema("foxglove.PoseInFrame", "jsonschema", R"({"type":"object"})");
     const auto stats = w.AddSchema("", "", "");
@@ -179,6 +182,36 @@ TEST(Mcap, ChunksIndexesAndSummaryPointWhereTheySay) {
     ++groups;
   }
   EXPECT_EQ(groups, 4);
+}
+
+TEST(Mcap, CompressedChunksHoldTheirRecordsAndCrc) {
+  test::TempDir tmp;
+  {
+    Writer w(tmp / "z.mcap");  // zstd by default
+    const auto c = w.AddChannel(0, "/text", "json");
+    for (std::uint64_t i = 0; i < 500; ++i) w.Write(c, i, i, R"({"text":"the same words again and again"})");
+  }
+  const std::string b = ReadAll(tmp / "z.mcap");
+  std::size_t chunks = 0;
+  Cursor footer{b, b.size() - 8 - 29 + 9};
+  const auto summary_start = footer.Int<std::uint64_t>();
+  for (const Rec& r : Records(b, 8, summary_start)) {
+    if (r.op != 0x06) continue;
+    ++chunks;
+    Cursor k{b, r.content + 16};
+    const auto uncompressed = k.Int<std::uint64_t>();
+    const auto crc = k.Int<std::uint32_t>();
+    EXPECT_EQ(k.Str(), "zstd");
+    const auto compressed = k.Int<std::uint64_t>();
+    EXPECT_LT(compressed * 10, uncompressed);  // the same text compresses well
+    std::string records(uncompressed, '\0');
+    ASSERT_EQ(ZSTD_decompress(records.data(), records.size(), b.data() + k.at, compressed), uncompressed);
+    EXPECT_EQ(Crc32(records), crc);
+    std::size_t messages = 0;
+    for (const Rec& m : Records(records, 0, records.size())) messages += m.op == 0x05;
+    EXPECT_EQ(messages, 500u);
+  }
+  EXPECT_EQ(chunks, 1u);
 }
 
 TEST(Mcap, AnEmptyRecordingIsAValidFile) {

@@ -6,14 +6,13 @@
 #include <cstring>
 
 #include <spdlog/spdlog.h>
+#include <zstd.h>
 
 #include "sgslam/common/error.h"
 
 namespace sgslam::mcap {
 
 namespace {
-
-constexpr std::string_view kMagic{"\x89MCAP0\r\n", 8};
 
 // The spec's opcodes.
 enum Op : std::uint8_t {
@@ -91,7 +90,7 @@ std::uint32_t Crc32(std::string_view bytes, std::uint32_t crc) {
 Writer::Writer(const std::filesystem::path& path, WriterOptions options) : path_(path), options_(std::move(options)) {
   file_ = std::fopen(path.c_str(), "wb");
   if (!file_) throw InputError("cannot write " + path.string() + ": " + std::strerror(errno));
-  Put(kMagic);
+  Put(kFileMagic);
   Put(Record(kHeader).Str(options_.profile).Str(options_.library).Finish());
 }
 
@@ -156,10 +155,20 @@ void Writer::Write(std::uint16_t channel, std::uint64_t log_time, std::uint64_t 
 
 void Writer::FlushChunk() {
   if (chunk_.empty()) return;
-  ChunkIndex index{chunk_start_, chunk_end_, offset_, 0, {}, 0, chunk_.size()};
+  std::string_view records = chunk_;
+  std::string compressed;
+  if (options_.zstd) {
+    compressed.resize(ZSTD_compressBound(chunk_.size()));
+    const std::size_t n = ZSTD_compress(compressed.data(), compressed.size(), chunk_.data(), chunk_.size(), 3);
+    if (ZSTD_isError(n)) throw Error(std::string("mcap: zstd: ") + ZSTD_getErrorName(n));
+    compressed.resize(n);
+    records = compressed;
+  }
+  const char* compression = options_.zstd ? "zstd" : "";
+  ChunkIndex index{chunk_start_, chunk_end_, offset_, 0, {}, 0, records.size(), chunk_.size()};
   Record chunk(kChunk);
   chunk.Int(chunk_start_).Int(chunk_end_).Int(static_cast<std::uint64_t>(chunk_.size())).Int(Crc32(chunk_));
-  chunk.Str("").Int(static_cast<std::uint64_t>(chunk_.size())).Raw(chunk_);
+  chunk.Str(compression).Int(static_cast<std::uint64_t>(records.size())).Raw(records);
   Put(chunk.Finish());
   index.length = offset_ - index.offset;
   const std::uint64_t indexes_start = offset_;
@@ -220,7 +229,7 @@ void Writer::Close() {
       r.Int(c.start_time).Int(c.end_time).Int(c.offset).Int(c.length);
       r.Int(static_cast<std::uint32_t>(c.message_index_offsets.size() * 10));
       for (const auto& [channel, at] : c.message_index_offsets) r.Int(channel).Int(at);
-      r.Int(c.message_index_length).Str("").Int(c.size).Int(c.size);
+      r.Int(c.message_index_length).Str(options_.zstd ? "zstd" : "").Int(c.compressed_size).Int(c.size);
       summary += r.Finish();
     }
   });
@@ -233,7 +242,7 @@ void Writer::Close() {
   for (std::size_t i = 0; i < 4; ++i) footer[footer.size() - 4 + i] = static_cast<char>((summary_crc >> (8 * i)) & 0xFF);
   Put(summary);
   Put(footer);
-  Put(kMagic);
+  Put(kFileMagic);
   std::FILE* f = file_;
   file_ = nullptr;
   errno = 0;

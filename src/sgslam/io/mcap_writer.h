@@ -1,5 +1,5 @@
 // An MCAP file writer (https://mcap.dev/spec): the container Foxglove opens.
-// Messages go into chunks (uncompressed) written as the run goes, each followed by
+// Messages go into chunks (zstd-compressed or stored) written as the run goes, each followed by
 // its message indexes, so memory stays bounded by one chunk; Close() adds the data
 // end, the summary (schemas, channels, statistics, chunk indexes) and its offsets,
 // which let a reader seek by time. Every record the spec gives a CRC has one.
@@ -17,8 +17,12 @@
 
 namespace sgslam::mcap {
 
+// The bytes an MCAP file begins and ends with.
+inline constexpr std::string_view kFileMagic{"\x89MCAP0\r\n", 8};
+
 struct WriterOptions {
   std::size_t chunk_size = 1 << 20;  // bytes of records a chunk holds before it is written
+  bool zstd = true;                  // chunks compressed with zstd (level 3), else stored
   std::string profile;               // the header's profile ("" for none; "ros1", "ros2")
   std::string library = "sgslam";
 };
@@ -61,7 +65,7 @@ class Writer {
   struct ChunkIndex {
     std::uint64_t start_time, end_time, offset, length;
     std::map<std::uint16_t, std::uint64_t> message_index_offsets;
-    std::uint64_t message_index_length, size;
+    std::uint64_t message_index_length, compressed_size, size;
   };
 
   void FlushChunk();

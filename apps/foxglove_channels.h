@@ -1,0 +1,76 @@
+// What sgslam publishes to Foxglove (docs/foxglove.md): the channels, their
+// schemas (Foxglove's own types, JSON-encoded, with the JSON Schemas shipped in
+// foxglove/schemas), and the messages made from a run's snapshots
+// (system/snapshot.h). Frames of reference: "map" (the first camera's frame, the
+// map's) and "camera" (the optical frame: x right, y down, z forward).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sgslam/camera/camera_config.h"
+#include "sgslam/common/time.h"
+#include "sgslam/system/mover_trails.h"
+#include "sgslam/system/snapshot.h"
+
+namespace sgslam::app::foxglove {
+
+enum class Channel : std::uint8_t {
+  kTransform,    // /tf                foxglove.FrameTransform: map -> camera, each tracked frame
+  kPose,         // /camera/pose       foxglove.PoseInFrame, each tracked frame
+  kImage,        // /camera/image      foxglove.CompressedImage (JPEG), each frame
+  kCalibration,  // /camera/calibration foxglove.CameraCalibration, each frame
+  kAnnotations,  // /camera/annotations foxglove.ImageAnnotations: kept and rejected keypoints, boxes
+  kMovers,       // /movers            foxglove.SceneUpdate: the mover tracks' boxes, labels, trails
+  kStats,        // /stats             sgslam.FrameStats: state, frame time, kept and rejected
+  kTrajectory,   // /map/trajectory    foxglove.PosesInFrame: the keyframes' poses
+  kMapPoints,    // /map/points        foxglove.PointCloud: the sparse map
+  kCloud,        // /map/cloud         foxglove.PointCloud: the static dense cloud, coloured
+  kObjects,      // /map/objects       foxglove.SceneUpdate: the objects' boxes and labels
+};
+inline constexpr std::size_t kChannels = 11;
+
+struct ChannelInfo {
+  Channel channel;
+  const char* topic;
+  const char* schema;
+};
+const std::array<ChannelInfo, kChannels>& Channels();
+inline const ChannelInfo& Info(Channel c) { return Channels()[static_cast<std::size_t>(c)]; }
+
+// A channel's JSON Schema: foxglove.* read from the shipped foxglove/schemas
+// (data_dir.h), sgslam.FrameStats built in. Throws InputError naming what is missing.
+std::string SchemaText(const std::string& schema);
+
+struct Message {
+  Channel channel;
+  Timestamp t;  // the frame's (ns): the log time
+  std::string json;
+};
+
+class Encoder {
+ public:
+  // jpeg_quality: 0-100, the image channel's.
+  explicit Encoder(const CameraConfig& camera, int jpeg_quality = 80) : camera_(camera), jpeg_quality_(jpeg_quality) {}
+
+  // A frame's messages, appended to out. Remembers the mover tracks' trails.
+  void Frame(const FrameSnapshot& f, std::vector<Message>& out);
+  // The map's, at time t: trajectory, points and objects; with the cloud when
+  // `cloud` (the largest, so the caller spaces them out).
+  void Map(const MapSnapshot& m, Timestamp t, bool cloud, std::vector<Message>& out) const;
+
+  // Points of the dense cloud a message holds at most (an even subsample beyond).
+  static constexpr std::size_t kMaxCloudPoints = 300'000;
+
+ private:
+  CameraConfig camera_;
+  int jpeg_quality_;
+  MoverTrails trails_;
+};
+
+// Standard base64 (RFC 4648), as JSON carries Foxglove's bytes fields.
+std::string Base64(const std::uint8_t* data, std::size_t size);
+
+}  // namespace sgslam::app::foxglove

@@ -1,0 +1,69 @@
+// `sgslam run --mcap FILE`: the run recorded as an MCAP file for Foxglove
+// (docs/foxglove.md), written as it goes on a thread of its own: each frame's
+// messages (foxglove_channels.h) and, at most every second of the sequence, the
+// map's (the dense cloud every five); the final map and the file's summary at the
+// end, on every stop.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "sgslam/camera/camera_config.h"
+#include "sgslam/common/bounded_queue.h"
+#include "sgslam/io/mcap_writer.h"
+#include "sgslam/system/slam_system.h"
+
+#include "foxglove_channels.h"
+
+namespace sgslam::app {
+
+class McapRecorder {
+ public:
+  // Opens the file (InputError naming it when it cannot), writes the schemas and
+  // channels, turns the system's snapshots on and starts the writing thread. The
+  // system must outlive the recorder.
+  McapRecorder(const std::filesystem::path& file, SlamSystem& system, const CameraConfig& camera);
+  ~McapRecorder();  // Finish(), when it was not called
+  McapRecorder(const McapRecorder&) = delete;
+  McapRecorder& operator=(const McapRecorder&) = delete;
+
+  // The run's thread, after each frame: queues the frame just processed. Waits
+  // while kQueuedFrames wait already: the file keeps every frame.
+  void AddFrame();
+  // After the system's Finish(): the frames queued, the final map, the summary.
+  // Empty when the file was written in full, else why not (also logged).
+  std::string Finish();
+
+  std::uint64_t bytes() const { return bytes_.load(); }
+  std::uint64_t messages() const { return messages_.load(); }
+
+  static constexpr std::size_t kQueuedFrames = 16;
+  static constexpr double kMapPeriod = 1.0;    // s of the sequence between the map's messages
+  static constexpr double kCloudPeriod = 5.0;  // ... and the dense cloud's
+
+ private:
+  void Run();
+  void Write(const std::vector<foxglove::Message>& messages);
+  void WriteMap(Timestamp t, bool final);
+
+  const SlamSystem& system_;
+  mcap::Writer writer_;
+  foxglove::Encoder encoder_;
+  std::array<std::uint16_t, foxglove::kChannels> channel_ids_{};
+  BoundedQueue<std::shared_ptr<const FrameSnapshot>> frames_{kQueuedFrames};
+  std::thread thread_;
+  bool finished_ = false;
+  std::string error_;  // the writing thread's, read after it ended
+  std::atomic<std::uint64_t> bytes_{0}, messages_{0};
+  // The writing thread's: what the last map messages held, and when.
+  Timestamp last_t_ = 0, map_t_ = 0, cloud_t_ = 0;
+  bool any_frame_ = false, any_map_ = false;
+  std::size_t map_keyframes_ = 0, map_pieces_ = 0;
+};
+
+}  // namespace sgslam::app
