@@ -51,6 +51,7 @@ NodeOptions ReadNodeOptions(const ros::NodeHandle& p) {
   o.camera_frame = Param(p, "camera_frame", o.camera_frame);
   o.world_frame = Param(p, "world_frame", o.world_frame);
   o.map_period = Param(p, "map_period", o.map_period);
+  o.mcap = Param(p, "mcap", o.mcap);
   const auto check = [](bool ok, const std::string& what) {
     if (!ok) throw ConfigError("parameter ~" + what);
   };
@@ -72,7 +73,7 @@ SlamNode::SlamNode(ros::NodeHandle& nh, ros::NodeHandle& private_nh, NodeOptions
   config_ = LoadNodeConfig(options_.config, options_.mode, options_.model);
   detector_ = LoadNodeDetector(config_);
   out_ = options_.out;
-  CheckNodeOutputs(config_, out_);
+  CheckNodeOutputs(config_, out_, options_.mcap);
   std::error_code ec;
   fs::create_directories(out_, ec);
   if (!fs::is_directory(out_, ec)) throw InputError("cannot create output folder " + out_.string() + " (~out)");
@@ -298,7 +299,7 @@ void SlamNode::AnswerSave() {
 void SlamNode::ProcessFrame(Pending& frame) {
   if (!runner_) {
     WriteConfigUsed(config_.config, config_.source, out_);  // with the camera chosen at the first frame
-    runner_ = std::make_unique<SlamRunner>(config_.config, options_.sequential, std::move(detector_), out_);
+    runner_ = std::make_unique<SlamRunner>(config_.config, options_.sequential, std::move(detector_), out_, options_.mcap);
     ROS_INFO("sgslam_ros: system started, mode %s, detector: %s", config_.config.dynamic.mode.c_str(),
              runner_->DescribeDetector().c_str());
     last_maps_ = Clock::now();

@@ -50,6 +50,7 @@ struct NodeOptions {
   std::string camera_frame = "camera";
   std::string world_frame = "world";  // z up, x forward, above map (a static transform); empty: none
   double map_period = 1.0;          // s: the maps and objects at most this often (on new keyframes)
+  std::string mcap;                 // the run recorded for Foxglove to this MCAP file (docs/foxglove.md); empty: none
 };
 
 NodeOptions ReadNodeOptions(const ros::NodeHandle& private_nh);

@@ -5,8 +5,10 @@
 #include <spdlog/spdlog.h>
 #include <opencv2/core/utility.hpp>
 
+#include "mcap_recorder.h"
 #include "run_outputs.h"
 #include "sgslam/camera/presets.h"
+#include "sgslam/common/error.h"
 #include "sgslam/config/yaml_io.h"
 #include "sgslam/detection/detector.h"
 #include "sgslam/io/output_plan.h"
@@ -41,11 +43,17 @@ std::unique_ptr<Detector> LoadNodeDetector(const NodeConfig& c) {
   return mode == "semantic" || mode == "sg" ? MakeDetector(c.config.detector, c.folder) : nullptr;
 }
 
-void CheckNodeOutputs(const NodeConfig& c, const fs::path& out) {
+void CheckNodeOutputs(const NodeConfig& c, const fs::path& out, const std::string& mcap) {
   OutputPlan plan;
   plan.Reads(c.file, "the configuration file given with ~config");
   app::PlanRunOutputs(plan, c.config, out, "~out", c.folder);
+  if (!mcap.empty()) plan.Writes(mcap, "~mcap", std::string(mcap::kFileMagic));
   plan.Check();
+  if (mcap.empty()) return;
+  const fs::path dir = fs::path(mcap).has_parent_path() ? fs::path(mcap).parent_path() : fs::path(".");
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (!fs::is_directory(dir, ec)) throw InputError("~mcap " + mcap + ": cannot create folder " + dir.string());
 }
 
 bool WriteStatsWithoutFrames(const fs::path& out, const std::string& ended, const std::string& failure,
@@ -68,12 +76,15 @@ struct SlamRunner::Impl {
   fs::path out;
   bool has_detector = false;
   std::unique_ptr<SlamSystem> system;
+  std::unique_ptr<app::McapRecorder> recorder;  // after the system: gone before it
+  std::string mcap;
   std::vector<FrameReport> reports;
 
   nlohmann::json Stats(const LiveStats& live, const app::RunMaps& maps) const;
 };
 
-SlamRunner::SlamRunner(const Config& config, bool sequential, std::unique_ptr<Detector> detector, fs::path out)
+SlamRunner::SlamRunner(const Config& config, bool sequential, std::unique_ptr<Detector> detector, fs::path out,
+                       const std::string& mcap)
     : impl_(std::make_unique<Impl>()) {
   impl_->config = config;
   impl_->out = std::move(out);
@@ -83,12 +94,15 @@ SlamRunner::SlamRunner(const Config& config, bool sequential, std::unique_ptr<De
   if (config.detector.threads > 0) cv::setNumThreads(config.detector.threads);
   impl_->system = std::make_unique<SlamSystem>(config, sequential, std::move(detector));
   impl_->system->EnableSnapshots();
+  impl_->mcap = mcap;
+  if (!mcap.empty()) impl_->recorder = std::make_unique<app::McapRecorder>(mcap, *impl_->system, config.camera);
 }
 
 SlamRunner::~SlamRunner() = default;
 
 std::shared_ptr<const FrameSnapshot> SlamRunner::Process(const RgbdImages& images) {
   FrameReport& r = impl_->reports.emplace_back(impl_->system->Process(images));
+  if (impl_->recorder) impl_->recorder->AddFrame();
   std::vector<cv::Point2f>().swap(r.keypoints);  // the per-frame record stays small
   std::vector<std::uint8_t>().swap(r.rejected);
   return impl_->system->LatestFrame();
@@ -111,6 +125,11 @@ std::string SlamRunner::SaveNow() {
 bool SlamRunner::Finish(const std::string& ended, const std::string& failure, const LiveStats& live) {
   impl_->system->Finish();
   FailedOutputs failed;
+  if (impl_->recorder) {
+    failed.Try("~mcap " + impl_->mcap, [&] {
+      if (const std::string error = impl_->recorder->Finish(); !error.empty()) throw InputError(error);
+    });
+  }
   const app::RunMaps maps = app::WriteSystemOutputs(impl_->out, *impl_->system, impl_->reports, impl_->has_detector,
                                                     false, failed);
   app::WriteStatsJson(impl_->out, impl_->Stats(live, maps), maps.semantic, ended, failure, failed);

@@ -33,10 +33,11 @@ NodeConfig LoadNodeConfig(const std::string& config, const std::string& mode, co
 // that a missing model is reported at start.
 std::unique_ptr<Detector> LoadNodeDetector(const NodeConfig& config);
 
-// The output folder (~out) and its files checked against the files the node reads
-// (the config, the model, the vocabulary), as `sgslam run` checks its own
-// (io/output_plan.h); throws InputError naming both paths.
-void CheckNodeOutputs(const NodeConfig& config, const std::filesystem::path& out);
+// The output folder (~out) and its files, and the recording (~mcap, when not
+// empty), checked against the files the node reads (the config, the model, the
+// vocabulary), as `sgslam run` checks its own (io/output_plan.h); throws InputError
+// naming both paths. Makes the recording's folder.
+void CheckNodeOutputs(const NodeConfig& config, const std::filesystem::path& out, const std::string& mcap);
 
 // config_used.yaml in out: `sgslam run`'s writer (apps/run_outputs.h), for node.cpp,
 // which cannot include that header.
@@ -56,8 +57,10 @@ struct LiveStats {
 
 class SlamRunner {
  public:
-  // Starts the system's threads; detector from LoadNodeDetector.
-  SlamRunner(const Config& config, bool sequential, std::unique_ptr<Detector> detector, std::filesystem::path out);
+  // Starts the system's threads; detector from LoadNodeDetector. mcap: the MCAP file
+  // to record the run to (apps/mcap_recorder.h), or empty.
+  SlamRunner(const Config& config, bool sequential, std::unique_ptr<Detector> detector, std::filesystem::path out,
+             const std::string& mcap);
   ~SlamRunner();
   SlamRunner(const SlamRunner&) = delete;
   SlamRunner& operator=(const SlamRunner&) = delete;

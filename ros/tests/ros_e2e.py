@@ -147,6 +147,29 @@ def check_outputs(out, poses):
     return stats
 
 
+def check_mcap(path, frames):
+    """The ~mcap recording finished on Ctrl-C: its footer, and a summary whose
+    statistics count the 11 channels and a stats message per frame (the content is
+    checked by @mcap/core in the Foxglove.Mcap test)."""
+    import struct
+    data = open(path, "rb").read() if os.path.isfile(path) else b""
+    magic = b"\x89MCAP0\r\n"
+    if not (data.startswith(magic) and data.endswith(magic) and data[-37] == 2):
+        fail(f"{path}: not a finished MCAP file ({len(data)} bytes)")
+    summary_start, offsets_start = struct.unpack_from("<QQ", data, len(data) - 37 + 9)
+    at, channels, counts = summary_start, None, None
+    while at < offsets_start:
+        op, length = struct.unpack_from("<BQ", data, at)
+        if op == 0x0B:  # Statistics
+            messages, _, channels = struct.unpack_from("<QHI", data, at + 9)
+            n = struct.unpack_from("<I", data, at + 9 + 14 + 12 + 16)[0] // 10
+            counts = dict(struct.unpack_from("<HQ", data, at + 9 + 14 + 12 + 16 + 4 + 10 * k) for k in range(n))
+        at += 9 + length
+    if channels != 11 or not counts or max(counts.values()) != frames:
+        fail(f"{path}: {channels} channels, message counts {counts}; expected 11 and {frames} a channel at most")
+    print(f"~mcap: {len(data) / 1048576:.1f} MiB, {channels} channels, {sum(counts.values())} messages")
+
+
 def check_live_outputs(out):
     """What the save service wrote mid-run: the live cloud under its own name, and
     none of the filtered outputs only the end writes (a name means one content)."""
@@ -211,7 +234,8 @@ def run_node(args, build, work, seq, out):
     try:
         procs.append(start_master(work))
         shutil.rmtree(out, ignore_errors=True)
-        cmd = [node, "__name:=sgslam", f"_out:={out}"] + ([f"_mode:={args.mode}"] if args.mode else []) \
+        cmd = [node, "__name:=sgslam", f"_out:={out}", f"_mcap:={os.path.join(work, 'run.mcap')}"] \
+            + ([f"_mode:={args.mode}"] if args.mode else []) \
             + ([f"_queue_size:={args.queue_size}"] if args.queue_size else [])
         if os.path.isfile(os.path.join(seq, "sgslam.yaml")):
             cmd.append(f"_config:={os.path.join(seq, 'sgslam.yaml')}")
@@ -282,6 +306,7 @@ def main():
                        if args.via_bag else open(os.path.join(work, "play.log")).read())
     frames = int(played.group(1)) if played else fail("sgslam_ros_play did not say how many frames it published")
     stats = check_outputs(out, len(listener.poses))
+    check_mcap(os.path.join(work, "run.mcap"), stats["frames"])
     results = report(args, listener, rss, stats, frames, sgslam, gt, work, out, ref_online, ref_final)
     if args.json:
         with open(args.json, "w") as f:
