@@ -10,12 +10,17 @@
 #include <spdlog/spdlog.h>
 
 #include "commands.h"
+#include "run_foxglove.h"
 #include "run_pipeline.h"
 #include "run_viewer.h"
 #include "sgslam/common/error.h"
+#include "sgslam/common/regular_file.h"
+#include "sgslam/io/ply.h"
+#include "sgslam/io/trajectory.h"
 #include "stop_signals.h"
 
 #ifdef SGSLAM_WITH_VIEWER
+#include "run_folder_files.h"
 #include "run_folder_source.h"
 #include "server.h"
 #endif
@@ -27,8 +32,50 @@ namespace {
 struct ViewOptions {
   std::string folder, address = "127.0.0.1";
   int port = kDefaultViewerPort;
+  int foxglove_port = -1;  // --foxglove[=PORT]; -1: none
   std::vector<std::string> origins;
 };
+
+#ifdef SGSLAM_WITH_VIEWER
+// The run's map as Foxglove's channels show it: keyframes, map points, the dense
+// cloud (one piece at the origin) and the objects; the time of its last pose.
+MapSnapshot ReadRunMap(const std::filesystem::path& folder, Timestamp& last) {
+  MapSnapshot m;
+  const Trajectory trajectory = ReadTumTrajectory(folder / "trajectory.txt");  // checked there by the page's source
+  last = trajectory.empty() ? 0 : trajectory.back().t;
+  if (OptionalRegularFile(folder / "keyframes.txt", "keyframe trajectory")) {
+    for (const StampedPose& k : ReadTumTrajectory(folder / "keyframes.txt")) {
+      m.keyframes.push_back({m.keyframes.size(), k.t, k.T_w_c});
+    }
+  }
+  if (OptionalRegularFile(folder / "map_points.ply", "map points")) m.points = ReadPlyPoints(folder / "map_points.ply");
+  if (OptionalRegularFile(folder / "cloud.ply", "cloud")) {
+    std::vector<Rgb> colours;
+    const std::vector<Eigen::Vector3d> cloud = ReadPlyPoints(folder / "cloud.ply", &colours);
+    auto points = std::make_shared<std::vector<ColoredPoint>>();
+    points->reserve(cloud.size());
+    for (std::size_t i = 0; i < cloud.size(); ++i) {
+      points->push_back({cloud[i].cast<float>(), colours.empty() ? Rgb{200, 200, 200} : colours[i]});
+    }
+    m.cloud.push_back({0, SE3(), std::move(points)});
+  }
+  if (const auto objects = folder / "objects.json"; OptionalRegularFile(objects, "run output")) {
+    for (const nlohmann::json& o : viewer::ReadRunObjects(objects)) {  // fields checked there
+      ObjectEstimate e;
+      e.id = o.value("id", static_cast<int>(m.objects.size() + 1));
+      e.class_name = o["class"].get<std::string>();
+      e.confidence = o["confidence"].get<double>();
+      for (int k = 0; k < 3; ++k) {
+        e.centroid[k] = o["centroid"][k].get<double>();
+        e.size[k] = o["size"][k].get<double>();
+      }
+      e.exported = true;
+      m.objects.push_back(std::move(e));
+    }
+  }
+  return m;
+}
+#endif
 
 int View(const ViewOptions& o) {
 #ifdef SGSLAM_WITH_VIEWER
@@ -39,6 +86,12 @@ int View(const ViewOptions& o) {
   options.port = static_cast<std::uint16_t>(o.port);
   options.allowed_origins = o.origins;
   viewer::Server server(options, source);
+  std::unique_ptr<ViewFoxglove> foxglove;
+  if (o.foxglove_port >= 0) {
+    Timestamp last = 0;
+    const MapSnapshot map = ReadRunMap(o.folder, last);
+    foxglove = std::make_unique<ViewFoxglove>(map, last, o.address, o.foxglove_port, CameraConfig{});
+  }
   spdlog::info("view: {}: open {} in a web browser (Ctrl-C to stop)", o.folder, server.url());
   StopSignals::WaitUntil(std::chrono::steady_clock::time_point::max());
   return kExitOk;
@@ -66,7 +119,19 @@ Action AddViewCommand(CLI::App& root) {
                   "viewer's own page at a loopback or, with --address, IP address)")
       ->type_name("ORIGIN")
       ->check(CLI::Validator(ViewerOriginError, "", "origin"));
-  return [o] { return View(*o); };
+  auto foxglove_text = std::make_shared<std::string>();
+  CLI::Option* foxglove =
+      cmd->add_option("--foxglove", *foxglove_text,
+                      "Also serve the run's map, trajectory, cloud and objects to Foxglove (its WebSocket protocol), "
+                      "port " + std::to_string(kDefaultFoxglovePort) + " (--foxglove=PORT for another; 0: any free port)")
+          ->expected(0, 1)
+          ->check(CLI::Range(0, 65535));
+  return [o, foxglove, foxglove_text] {
+    if (foxglove->count() > 0) {
+      o->foxglove_port = foxglove_text->empty() ? kDefaultFoxglovePort : std::stoi(*foxglove_text);
+    }
+    return View(*o);
+  };
 }
 
 }  // namespace sgslam::app

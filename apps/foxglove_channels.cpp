@@ -149,41 +149,47 @@ std::string Base64(const std::uint8_t* data, std::size_t size) {
   return out;
 }
 
-void Encoder::Frame(const FrameSnapshot& f, std::vector<Message>& out) {
+void Encoder::Frame(const FrameSnapshot& f, std::vector<Message>& out, const Wanted& wanted) {
   const Timestamp t = f.t;
-  if (f.T_w_c) {
+  const auto want = [&](Channel c) { return wanted.test(static_cast<std::size_t>(c)); };
+  if (f.T_w_c && want(Channel::kTransform)) {
     Add(out, Channel::kTransform, t,
         {{"timestamp", Time(t)}, {"parent_frame_id", kMap}, {"child_frame_id", kCamera},
          {"translation", Vec3(f.T_w_c->translation())}, {"rotation", Quat(f.T_w_c->quaternion())}});
+  }
+  if (f.T_w_c && want(Channel::kPose)) {
     Add(out, Channel::kPose, t, {{"timestamp", Time(t)}, {"frame_id", kMap}, {"pose", Pose(*f.T_w_c)}});
   }
-  if (!f.bgr.empty()) {
+  if (!f.bgr.empty() && want(Channel::kImage)) {
     std::vector<std::uint8_t> jpeg;
     cv::imencode(".jpg", f.bgr, jpeg, {cv::IMWRITE_JPEG_QUALITY, jpeg_quality_});
     Add(out, Channel::kImage, t,
         {{"timestamp", Time(t)}, {"frame_id", kCamera}, {"data", Base64(jpeg.data(), jpeg.size())}, {"format", "jpeg"}});
   }
   const CameraConfig& c = camera_;
-  Add(out, Channel::kCalibration, t,
-      {{"timestamp", Time(t)},
-       {"frame_id", kCamera},
-       {"width", c.width},
-       {"height", c.height},
-       {"distortion_model", "plumb_bob"},
-       {"D", {c.k1, c.k2, c.p1, c.p2, c.k3}},
-       {"K", {c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1}},
-       {"R", {1, 0, 0, 0, 1, 0, 0, 0, 1}},
-       {"P", {c.fx, 0, c.cx, 0, 0, c.fy, c.cy, 0, 0, 0, 1, 0}}});
+  if (want(Channel::kCalibration)) {
+    Add(out, Channel::kCalibration, t,
+        {{"timestamp", Time(t)},
+         {"frame_id", kCamera},
+         {"width", c.width},
+         {"height", c.height},
+         {"distortion_model", "plumb_bob"},
+         {"D", {c.k1, c.k2, c.p1, c.p2, c.k3}},
+         {"K", {c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1}},
+         {"R", {1, 0, 0, 0, 1, 0, 0, 0, 1}},
+         {"P", {c.fx, 0, c.cx, 0, 0, c.fy, c.cy, 0, 0, 0, 1, 0}}});
+  }
 
   // The keypoints by verdict (kept green, rejected red, unjudged grey), the boxes
   // with their class and score (carried ones, of missed moving objects, yellow).
   std::array<json, 3> groups = {json::array(), json::array(), json::array()};
   std::array<int, 3> counts{};
+  const bool annotate = want(Channel::kAnnotations);
   for (std::size_t i = 0; i < f.keypoints.size(); ++i) {
     constexpr std::uint8_t kUnjudged = FrameSnapshot::kUnjudged;
     const std::uint8_t label = i < f.labels.size() ? f.labels[i] : kUnjudged;
     const std::size_t g = std::min(label, kUnjudged);
-    groups[g].push_back(Point2(f.keypoints[i].x, f.keypoints[i].y));
+    if (annotate) groups[g].push_back(Point2(f.keypoints[i].x, f.keypoints[i].y));
     ++counts[g];
   }
   const std::array<json, 3> colours = {Rgba(0.2f, 0.9f, 0.3f), Rgba(1.f, 0.2f, 0.2f), Rgba(0.7f, 0.7f, 0.7f)};
@@ -194,6 +200,7 @@ void Encoder::Frame(const FrameSnapshot& f, std::vector<Message>& out) {
                       {"outline_colors", json::array()}, {"fill_color", colours[g]}, {"thickness", 4}});
   }
   for (const Detection& d : f.detections) {
+    if (!annotate) break;
     const json colour = d.carried > 0 ? Rgba(1.f, 0.9f, 0.2f) : Rgba(1.f, 0.55f, 0.1f);
     const cv::Rect2f& b = d.box;
     points.push_back({{"timestamp", Time(t)},
@@ -212,13 +219,16 @@ void Encoder::Frame(const FrameSnapshot& f, std::vector<Message>& out) {
                      {"text_color", colour},
                      {"background_color", Rgba(0, 0, 0, 0.6f)}});
   }
-  Add(out, Channel::kAnnotations, t,
-      {{"circles", json::array()}, {"points", std::move(points)}, {"texts", std::move(texts)}});
+  if (annotate) {
+    Add(out, Channel::kAnnotations, t,
+        {{"circles", json::array()}, {"points", std::move(points)}, {"texts", std::move(texts)}});
+  }
 
   // The confirmed and lost mover tracks (tentative ones are new, or people sitting still).
   if (f.T_w_c) trails_.Update(f.movers, t);
   json movers = json::array();
   for (const MoverSnapshot& m : f.movers) {
+    if (!want(Channel::kMovers)) break;
     if (m.state == movers::TrackState::kTentative) continue;
     const bool lost = m.state == movers::TrackState::kLost;
     const auto [r, g, b, a] = TrackColour(m.id, lost);
@@ -242,34 +252,39 @@ void Encoder::Frame(const FrameSnapshot& f, std::vector<Message>& out) {
     }
     movers.push_back(std::move(e));
   }
-  Add(out, Channel::kMovers, t, SceneUpdate(t, std::move(movers)));
+  if (want(Channel::kMovers)) Add(out, Channel::kMovers, t, SceneUpdate(t, std::move(movers)));
 
-  Add(out, Channel::kStats, t,
-      {{"timestamp", Time(t)},
-       {"index", f.index},
-       {"state", ToString(f.state)},
-       {"frame_ms", f.frame_ms},
-       {"kept", counts[FrameSnapshot::kKept]},
-       {"rejected", counts[FrameSnapshot::kRejected]},
-       {"unjudged", counts[FrameSnapshot::kUnjudged]},
-       {"detections", f.detections.size()},
-       {"movers", f.movers.size()},
-       {"keyframe", f.keyframe}});
+  if (want(Channel::kStats)) {
+    Add(out, Channel::kStats, t,
+        {{"timestamp", Time(t)},
+         {"index", f.index},
+         {"state", ToString(f.state)},
+         {"frame_ms", f.frame_ms},
+         {"kept", counts[FrameSnapshot::kKept]},
+         {"rejected", counts[FrameSnapshot::kRejected]},
+         {"unjudged", counts[FrameSnapshot::kUnjudged]},
+         {"detections", f.detections.size()},
+         {"movers", f.movers.size()},
+         {"keyframe", f.keyframe}});
+  }
 }
 
-void Encoder::Map(const MapSnapshot& m, Timestamp t, bool cloud, std::vector<Message>& out) const {
-  json poses = json::array();
-  for (const KeyFramePose& k : m.keyframes) poses.push_back(Pose(k.T_w_c));
-  Add(out, Channel::kTrajectory, t, {{"timestamp", Time(t)}, {"frame_id", kMap}, {"poses", std::move(poses)}});
-
-  std::vector<float> xyz;
-  xyz.reserve(3 * m.points.size());
-  for (const Eigen::Vector3d& p : m.points) {
-    for (int k = 0; k < 3; ++k) xyz.push_back(static_cast<float>(p[k]));
+void Encoder::Map(const MapSnapshot& m, Timestamp t, bool cloud, std::vector<Message>& out, const Wanted& wanted) const {
+  const auto want = [&](Channel c) { return wanted.test(static_cast<std::size_t>(c)); };
+  if (want(Channel::kTrajectory)) {
+    json poses = json::array();
+    for (const KeyFramePose& k : m.keyframes) poses.push_back(Pose(k.T_w_c));
+    Add(out, Channel::kTrajectory, t, {{"timestamp", Time(t)}, {"frame_id", kMap}, {"poses", std::move(poses)}});
   }
-  Add(out, Channel::kMapPoints, t, PointCloud(t, xyz, nullptr));
-
-  if (cloud && !m.cloud.empty()) {
+  std::vector<float> xyz;
+  if (want(Channel::kMapPoints)) {
+    xyz.reserve(3 * m.points.size());
+    for (const Eigen::Vector3d& p : m.points) {
+      for (int k = 0; k < 3; ++k) xyz.push_back(static_cast<float>(p[k]));
+    }
+    Add(out, Channel::kMapPoints, t, PointCloud(t, xyz, nullptr));
+  }
+  if (cloud && !m.cloud.empty() && want(Channel::kCloud)) {
     std::size_t total = 0;
     for (const CloudPiece& piece : m.cloud) total += piece.points_c ? piece.points_c->size() : 0;
     const std::size_t step = (total + kMaxCloudPoints - 1) / kMaxCloudPoints;  // an even subsample beyond the cap
@@ -290,6 +305,7 @@ void Encoder::Map(const MapSnapshot& m, Timestamp t, bool cloud, std::vector<Mes
     Add(out, Channel::kCloud, t, PointCloud(t, xyz, &colours));
   }
 
+  if (!want(Channel::kObjects)) return;
   json objects = json::array();
   for (const ObjectEstimate& o : m.objects) {
     if (!o.exported) continue;

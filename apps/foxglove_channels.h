@@ -6,6 +6,7 @@
 #pragma once
 
 #include <array>
+#include <bitset>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -55,11 +56,15 @@ class Encoder {
   // jpeg_quality: 0-100, the image channel's.
   explicit Encoder(const CameraConfig& camera, int jpeg_quality = 80) : camera_(camera), jpeg_quality_(jpeg_quality) {}
 
-  // A frame's messages, appended to out. Remembers the mover tracks' trails.
-  void Frame(const FrameSnapshot& f, std::vector<Message>& out);
-  // The map's, at time t: trajectory, points and objects; with the cloud when
-  // `cloud` (the largest, so the caller spaces them out).
-  void Map(const MapSnapshot& m, Timestamp t, bool cloud, std::vector<Message>& out) const;
+  using Wanted = std::bitset<kChannels>;  // by Channel: the messages to make
+  static Wanted All() { return Wanted().set(); }
+
+  // A frame's messages on the wanted channels, appended to out. Remembers the mover
+  // tracks' trails.
+  void Frame(const FrameSnapshot& f, std::vector<Message>& out, const Wanted& wanted = All());
+  // The map's at time t on the wanted channels: trajectory, points, objects, and the
+  // cloud when `cloud` (the largest, so the caller spaces them out).
+  void Map(const MapSnapshot& m, Timestamp t, bool cloud, std::vector<Message>& out, const Wanted& wanted = All()) const;
 
   // Points of the dense cloud a message holds at most (an even subsample beyond).
   static constexpr std::size_t kMaxCloudPoints = 300'000;

@@ -14,6 +14,7 @@
 
 #include "mcap_recorder.h"
 #include "progress.h"
+#include "run_foxglove.h"
 #include "run_outputs.h"
 #include "run_viewer.h"
 #include "stop_signals.h"
@@ -187,7 +188,7 @@ class FrameSource {
 // with o.realtime, the progress bar, the truth scores, Ctrl-C and SIGUSR1.
 FrameLoop RunFrames(const RunOptions& o, const TumDataset& dataset, const Config& config, SlamSystem& system,
                     TruthScorer& truth, const fs::path& out, const Stopwatch& wall, RunViewer* viewer,
-                    McapRecorder* recorder) {
+                    McapRecorder* recorder, RunFoxglove* foxglove) {
   FrameLoop loop;
   FrameStream stream(dataset, config.camera, kPrefetchFrames, o.max_frames);
   ProgressBar progress(stream.size());
@@ -201,6 +202,7 @@ FrameLoop RunFrames(const RunOptions& o, const TumDataset& dataset, const Config
       }
       FrameReport& r = loop.reports.emplace_back(system.Process(*frame));
       if (recorder) recorder->AddFrame();
+      if (foxglove) foxglove->AddFrame();
       if (o.realtime) {
         loop.latency_ms.push_back(
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - source.arrival()).count());
@@ -404,10 +406,16 @@ RunSummary RunSequence(const RunOptions& o) {
   }
   std::unique_ptr<McapRecorder> recorder;  // likewise
   if (!o.mcap.empty()) recorder = std::make_unique<McapRecorder>(o.mcap, system, config.camera);
+  std::unique_ptr<RunFoxglove> foxglove;  // likewise
+  if (o.foxglove_port >= 0) {
+    foxglove = std::make_unique<RunFoxglove>(system, o.foxglove_address, o.foxglove_port, config.camera);
+  }
   TruthScorer truth(o.dataset);
   const Stopwatch wall;
-  FrameLoop loop = RunFrames(o, dataset, config, system, truth, s.out, wall, viewer.get(), recorder.get());
+  FrameLoop loop =
+      RunFrames(o, dataset, config, system, truth, s.out, wall, viewer.get(), recorder.get(), foxglove.get());
   system.Finish();
+  if (foxglove) foxglove->Finish();
   const double seconds = wall.ElapsedMs() * 1e-3;
   const bool map_saved = SaveMapAtEnd(o, system);  // before the export filters the semantic clouds
 

@@ -34,6 +34,9 @@ struct RunOptions {
   int viewer_port = -1;
   std::string viewer_address = "127.0.0.1";
   std::vector<std::string> viewer_origins;  // --viewer-origin: pages elsewhere allowed (a name, a proxy)
+  // --foxglove[=PORT]: Foxglove's WebSocket protocol (run_foxglove.h) on foxglove_address; -1: none.
+  int foxglove_port = -1;
+  std::string foxglove_address = "127.0.0.1";
   std::string mcap;  // --mcap FILE: the run recorded for Foxglove (mcap_recorder.h); empty: none
   bool print_objects = true;  // the end-of-run object table on stdout
   // Programmatic overrides after the file and the options above (the demo's
