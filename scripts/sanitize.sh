@@ -8,7 +8,8 @@
 #   `sgslam run` in parallel mode with the real detector and --save-map.
 # --tsan: ThreadSanitizer build of the program and the threaded end-to-end test in
 #   build-tsan/; that test's parallel run and the same end-to-end run, the viewer's
-#   server tests and a `run --viewer` watched by a headless chromium page; with ROS 1
+#   server tests and a `run --viewer` watched by a headless chromium page, a
+#   `run --foxglove` with its clients and a `run --mcap` cut by Ctrl-C; with ROS 1
 #   installed, the ROS node on a synthetic sequence through a private master.
 # A report from either sanitizer fails the job (exit status 1).
 set -euo pipefail
@@ -77,6 +78,15 @@ if [ $tsan = 1 ]; then
   node viewer/tests/browser_test.mjs --sgslam build-tsan/sgslam --work "$work/tsan-viewer" --parallel 1 || status=$?
   [ $status = 0 ] || [ $status = 77 ] || exit $status
   echo "sanitize: tsan viewer run clean"
+  # The Foxglove server's and the MCAP recorder's threads: a live run with a client
+  # subscribed to every channel and one that never reads, and a recorded run cut by
+  # Ctrl-C (skipped, 77, without the npm packages).
+  for t in foxglove_live foxglove_mcap; do
+    status=0
+    node viewer/tests/${t}_test.mjs --sgslam build-tsan/sgslam --work "$work/tsan-$t" || status=$?
+    [ $status = 0 ] || [ $status = 77 ] || exit $status
+  done
+  echo "sanitize: tsan Foxglove runs clean"
   # The ROS node's threads (its callbacks, the tracking thread, the system's) on a
   # synthetic sequence through a private master; a report ends the node or the
   # player (66) and fails the script. Slow under TSan, so only its outputs and
