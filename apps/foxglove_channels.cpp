@@ -45,13 +45,19 @@ json Time(Timestamp t) {
   if (t < 0) t = 0;  // Foxglove's times are unsigned
   return {{"sec", t / kNsPerSecond}, {"nsec", t % kNsPerSecond}};
 }
-json Vec3(const Eigen::Vector3d& v) { return {{"x", v.x()}, {"y", v.y()}, {"z", v.z()}}; }
-json Quat(const Eigen::Quaterniond& q) { return {{"x", q.x()}, {"y", q.y()}, {"z", q.z()}, {"w", q.w()}}; }
+// A number the schemas' "number" takes: JSON has no NaN or infinity (a degenerate
+// extent, say), which would become null.
+double Finite(double v) { return std::isfinite(v) ? v : 0.0; }
+json Vec3(const Eigen::Vector3d& v) { return {{"x", Finite(v.x())}, {"y", Finite(v.y())}, {"z", Finite(v.z())}}; }
+json Quat(const Eigen::Quaterniond& q) {
+  if (!q.coeffs().allFinite()) return {{"x", 0.0}, {"y", 0.0}, {"z", 0.0}, {"w", 1.0}};
+  return {{"x", q.x()}, {"y", q.y()}, {"z", q.z()}, {"w", q.w()}};
+}
 json Pose(const SE3& T) { return {{"position", Vec3(T.translation())}, {"orientation", Quat(T.quaternion())}}; }
 json Pose(const Eigen::Vector3d& p) { return {{"position", Vec3(p)}, {"orientation", Quat(Eigen::Quaterniond::Identity())}}; }
 json Rgba(float r, float g, float b, float a = 1.f) { return {{"r", r}, {"g", g}, {"b", b}, {"a", a}}; }
 // Image positions to 0.1 px, path points to 1 mm: shorter JSON, nothing a display shows lost.
-double Round(double v, double unit) { return std::round(v / unit) * unit; }
+double Round(double v, double unit) { return std::isfinite(v) ? std::round(v / unit) * unit : 0.0; }
 json Point2(float x, float y) { return {{"x", Round(x, 0.1)}, {"y", Round(y, 0.1)}}; }
 json Vec3mm(const Eigen::Vector3d& v) { return {{"x", Round(v.x(), 1e-3)}, {"y", Round(v.y(), 1e-3)}, {"z", Round(v.z(), 1e-3)}}; }
 
@@ -99,7 +105,10 @@ json PointCloud(Timestamp t, const std::vector<float>& xyz, const std::vector<Rg
           {"fields", std::move(fields)}, {"data", Base64(data.data(), data.size())}};
 }
 
-void Add(std::vector<Message>& out, Channel c, Timestamp t, const json& j) { out.push_back({c, t, j.dump()}); }
+// Text that is not UTF-8 (a class name from a user's detections file) replaced, not thrown on.
+void Add(std::vector<Message>& out, Channel c, Timestamp t, const json& j) {
+  out.push_back({c, t, j.dump(-1, ' ', false, json::error_handler_t::replace)});
+}
 
 }  // namespace
 

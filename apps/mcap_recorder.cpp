@@ -7,8 +7,12 @@
 
 namespace sgslam::app {
 
-McapRecorder::McapRecorder(const std::filesystem::path& file, SlamSystem& system, const CameraConfig& camera)
-    : system_(system), writer_(file), encoder_(camera) {
+McapRecorder::McapRecorder(const std::filesystem::path& file, SlamSystem& system, const CameraConfig& camera,
+                           bool live)
+    : system_(system),
+      writer_(file),
+      encoder_(camera),
+      frames_(kQueuedFrames, live ? Overflow::kDropOldest : Overflow::kBlock) {
   std::map<std::string, std::uint16_t> schemas;
   for (const foxglove::ChannelInfo& c : foxglove::Channels()) {
     auto [it, added] = schemas.emplace(c.schema, 0);
@@ -20,7 +24,10 @@ McapRecorder::McapRecorder(const std::filesystem::path& file, SlamSystem& system
 }
 
 McapRecorder::~McapRecorder() {
-  if (!finished_) Finish();
+  if (finished_) return;
+  frames_.Shutdown();
+  thread_.join();
+  writer_.Abandon();
 }
 
 void McapRecorder::AddFrame() {
@@ -32,26 +39,33 @@ std::string McapRecorder::Finish() {
   finished_ = true;
   frames_.Shutdown();  // the frames queued are still written
   thread_.join();
-  if (error_.empty()) {
+  if (!writer_.failed()) {
     try {
-      if (any_frame_) WriteMap(last_t_, true);
+      // 1 ns after the last frame: its scene updates replace those of that time.
+      if (any_frame_) WriteMap(last_t_ + 1, true);
       writer_.Close();
     } catch (const std::exception& e) {
       error_ = e.what();
     }
   }
+  if (frames_.dropped() > 0) {
+    spdlog::warn("mcap: {} frames not recorded: they came while {} waited to be written", frames_.dropped(),
+                 kQueuedFrames);
+  }
+  if (skipped_ > 0) spdlog::warn("mcap: {} frames not recorded: their messages could not be made", skipped_);
   if (error_.empty()) {
-    spdlog::info("--mcap: {} messages, {:.1f} MiB in {}", writer_.messages(), writer_.bytes() / 1048576.0,
+    spdlog::info("mcap: {} messages, {:.1f} MiB in {}", writer_.messages(), writer_.bytes() / 1048576.0,
                  writer_.path().string());
   }
   return error_;
 }
 
 void McapRecorder::Run() {
-  NameThisThread("sgslam-mcap");
+  NameThisThread("sg-mcap");
+  LowerThisThreadsPriority();  // a recording must not slow tracking down
   std::vector<foxglove::Message> messages;
   while (auto f = frames_.Pop()) {
-    if (!error_.empty()) continue;  // a failed file: the run goes on, the frames are let go
+    if (writer_.failed()) continue;  // the run goes on, the frames are let go
     try {
       messages.clear();
       encoder_.Frame(**f, messages);
@@ -60,8 +74,12 @@ void McapRecorder::Run() {
       any_frame_ = true;
       if (!any_map_ || ToSeconds(last_t_ - map_t_) >= kMapPeriod) WriteMap(last_t_, false);
     } catch (const std::exception& e) {
-      error_ = e.what();
-      spdlog::error("--mcap: {}; the recording stops here, the run goes on", error_);
+      if (writer_.failed()) {
+        error_ = e.what();
+        spdlog::error("mcap: {}; the recording stops here, the run goes on", error_);
+      } else if (skipped_++ == 0) {
+        spdlog::warn("mcap: frame {}: {}; left out of the recording", (*f)->index, e.what());
+      }
     }
   }
 }

@@ -26,17 +26,22 @@ class McapRecorder {
  public:
   // Opens the file (InputError naming it when it cannot), writes the schemas and
   // channels, turns the system's snapshots on and starts the writing thread. The
-  // system must outlive the recorder.
-  McapRecorder(const std::filesystem::path& file, SlamSystem& system, const CameraConfig& camera);
-  ~McapRecorder();  // Finish(), when it was not called
+  // system must outlive the recorder. live: frames come from a camera (the ROS node,
+  // run --realtime), so a frame that finds kQueuedFrames waiting is dropped from the
+  // recording (counted) rather than holding tracking up.
+  McapRecorder(const std::filesystem::path& file, SlamSystem& system, const CameraConfig& camera, bool live = false);
+  // Without Finish() (a run that failed before it had frames to save): the file is
+  // abandoned, an earlier one of its name kept.
+  ~McapRecorder();
   McapRecorder(const McapRecorder&) = delete;
   McapRecorder& operator=(const McapRecorder&) = delete;
 
-  // The run's thread, after each frame: queues the frame just processed. Waits
-  // while kQueuedFrames wait already: the file keeps every frame.
+  // The run's thread, after each frame: queues the frame just processed. Not live,
+  // it waits while kQueuedFrames wait already: the file keeps every frame.
   void AddFrame();
   // After the system's Finish(): the frames queued, the final map, the summary.
-  // Empty when the file was written in full, else why not (also logged).
+  // Empty when the file was written in full, else why not. A frame whose messages
+  // could not be made is left out (logged), not the recording.
   std::string Finish();
 
   std::uint64_t bytes() const { return bytes_.load(); }
@@ -55,10 +60,11 @@ class McapRecorder {
   mcap::Writer writer_;
   foxglove::Encoder encoder_;
   std::array<std::uint16_t, foxglove::kChannels> channel_ids_{};
-  BoundedQueue<std::shared_ptr<const FrameSnapshot>> frames_{kQueuedFrames};
+  BoundedQueue<std::shared_ptr<const FrameSnapshot>> frames_;
   std::thread thread_;
   bool finished_ = false;
-  std::string error_;  // the writing thread's, read after it ended
+  std::string error_;  // the file's failure (the writing thread's, read after it ended)
+  std::size_t skipped_ = 0;  // frames whose messages could not be made (the writing thread's)
   std::atomic<std::uint64_t> bytes_{0}, messages_{0};
   // The writing thread's: what the last map messages held, and when.
   Timestamp last_t_ = 0, map_t_ = 0, cloud_t_ = 0;

@@ -22,8 +22,11 @@ namespace {
 std::vector<viewer::FoxgloveChannel> ChannelList() {
   std::vector<viewer::FoxgloveChannel> out;
   for (const foxglove::ChannelInfo& c : foxglove::Channels()) {
+    using C = foxglove::Channel;
+    const bool map = c.channel == C::kTrajectory || c.channel == C::kMapPoints || c.channel == C::kCloud ||
+                     c.channel == C::kObjects;
     out.push_back({static_cast<std::uint32_t>(c.channel) + 1, c.topic, "json", c.schema, foxglove::SchemaText(c.schema),
-                   "jsonschema"});
+                   "jsonschema", map});
   }
   return out;
 }
@@ -52,7 +55,8 @@ struct RunFoxglove::Impl {
   // The thread's: the frames as they come, the map at most every kMapPeriod of the
   // sequence when someone shows it; only the channels someone subscribed to are made.
   void Run() {
-    NameThisThread("sgslam-fox-pub");
+    NameThisThread("sg-foxglove-pub");
+    LowerThisThreadsPriority();  // a display must not slow tracking down
     std::vector<foxglove::Message> messages;
     while (auto f = frames.Pop()) {
       try {
@@ -75,18 +79,28 @@ struct RunFoxglove::Impl {
     return wanted;
   }
 
+  // The map when it changed (a keyframe, the semantic thread's cloud), the cloud
+  // at most every kCloudPeriod; everything at the end.
   void PublishMap(Timestamp t, bool final, const foxglove::Encoder::Wanted& wanted) {
     map_t = t;
-    any_map = true;
-    const bool cloud = final || ToSeconds(t - cloud_t) >= kCloudPeriod;
-    if (cloud) cloud_t = t;
     using C = foxglove::Channel;
     const auto want = [&](C c) { return wanted.test(static_cast<std::size_t>(c)); };
-    if (!final && !want(C::kTrajectory) && !want(C::kMapPoints) && !want(C::kObjects) && !(cloud && want(C::kCloud))) {
+    const bool cloud_due = final || ToSeconds(t - cloud_t) >= kCloudPeriod;
+    if (!final && !want(C::kTrajectory) && !want(C::kMapPoints) && !want(C::kObjects) && !(cloud_due && want(C::kCloud))) {
       return;  // no snapshot of the map for nobody
     }
+    const MapSnapshot map = system.SnapshotMap();
+    const bool changed = !any_map || map.keyframes.size() != map_keyframes || map.cloud.size() != map_pieces;
+    if (!final && !changed) return;
+    const bool cloud = cloud_due && want(C::kCloud) && (final || map.cloud.size() != map_pieces);
+    any_map = true;
+    map_keyframes = map.keyframes.size();
+    if (cloud) {
+      cloud_t = t;
+      map_pieces = map.cloud.size();
+    }
     std::vector<foxglove::Message> messages;
-    encoder.Map(system.SnapshotMap(), t, cloud, messages, wanted);
+    encoder.Map(map, t, cloud, messages, wanted);
     Publish(*server, messages);
   }
 
@@ -97,9 +111,11 @@ struct RunFoxglove::Impl {
   BoundedQueue<std::shared_ptr<const FrameSnapshot>> frames{1, Overflow::kDropOldest};
   std::thread thread;
   bool finished = false;
-  // The thread's: when the map's messages went last.
-  Timestamp map_t = 0, cloud_t = 0, last_t = 0;
+  // The thread's: when the map's messages went last, and what they held.
+  Timestamp map_t = 0, cloud_t = 0;
   bool any_map = false;
+  std::size_t map_keyframes = 0, map_pieces = 0;
+  Timestamp last_t = 0;  // the run thread's: the last frame's time
 };
 
 RunFoxglove::RunFoxglove(SlamSystem& system, const std::string& address, int port, const CameraConfig& camera)
@@ -123,7 +139,7 @@ void RunFoxglove::Finish() {
   impl_->frames.Shutdown();
   impl_->thread.join();
   try {  // every map channel, for the clients that connect or subscribe later
-    impl_->PublishMap(impl_->last_t, true, foxglove::Encoder::All());
+    impl_->PublishMap(impl_->last_t + 1, true, foxglove::Encoder::All());  // replaces the updates of the last frame
   } catch (const std::exception& e) {
     spdlog::error("foxglove: {}", e.what());
   }

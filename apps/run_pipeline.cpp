@@ -91,7 +91,10 @@ fs::path MakeOutputFolder(const RunOptions& o, const RunConfig& rc, const TumDat
   const bool map_in_place = !o.load_map.empty() && !o.save_map.empty() && fs::equivalent(o.load_map, o.save_map, ec);
   if (!map_in_place) plan.Reads(o.load_map, "the map given with --load-map");  // saved over on purpose, else kept
   if (!o.save_map.empty()) plan.Writes(o.save_map, "--save-map", std::string(mapfile::kFileMagic));
-  if (!o.mcap.empty()) plan.Writes(o.mcap, "--mcap", std::string(mcap::kFileMagic));
+  if (!o.mcap.empty()) {
+    plan.Writes(o.mcap, "--mcap", std::string(mcap::kFileMagic));
+    plan.Writes(o.mcap + ".part", "--mcap's file while it is written", std::string(mcap::kFileMagic));
+  }
   plan.Check();
   fs::create_directories(out, ec);
   if (ec || !fs::is_directory(out)) throw InputError("cannot create output folder " + out.string());
@@ -404,12 +407,12 @@ RunSummary RunSequence(const RunOptions& o) {
                                                         {"pausable", true}},
                                          std::move(truth), o.viewer_origins);
   }
-  std::unique_ptr<McapRecorder> recorder;  // likewise
-  if (!o.mcap.empty()) recorder = std::make_unique<McapRecorder>(o.mcap, system, config.camera);
   std::unique_ptr<RunFoxglove> foxglove;  // likewise
   if (o.foxglove_port >= 0) {
     foxglove = std::make_unique<RunFoxglove>(system, o.foxglove_address, o.foxglove_port, config.camera);
   }
+  std::unique_ptr<McapRecorder> recorder;  // likewise; last, when nothing else can fail before the frames
+  if (!o.mcap.empty()) recorder = std::make_unique<McapRecorder>(o.mcap, system, config.camera, o.realtime);
   TruthScorer truth(o.dataset);
   const Stopwatch wall;
   FrameLoop loop =

@@ -399,3 +399,26 @@ def _(t):
     notes = keep(t, "notes.txt")
     t.run(t.dataset(), "--mcap", os.path.join(notes, "run.mcap"))
     unchanged(t, notes, "notes.txt")
+
+
+@case("mcap-kept-on-failed-start", "--mcap over an earlier recording, --foxglove on a port in use: the run "
+      "refused, the earlier recording kept", 1, r"--foxglove: cannot listen on 127\.0\.0\.1:\d+")
+def _(t):
+    import socket
+    rec = t.path("rec.mcap")
+    with open(rec, "wb") as f:
+        f.write(b"\x89MCAP0\r\n an earlier recording")
+    with open(rec, "rb") as f:
+        before = f.read()
+    busy = socket.socket()
+    busy.bind(("127.0.0.1", 0))
+    busy.listen(1)
+    try:
+        t.run(t.dataset(), "--mcap", rec, f"--foxglove={busy.getsockname()[1]}")
+    finally:
+        busy.close()
+    with open(rec, "rb") as f:
+        if f.read() != before:
+            t.problem("lost", "the earlier recording was replaced by a run that never started")
+    if os.path.exists(rec + ".part"):
+        t.problem("outside", "rec.mcap.part left behind")

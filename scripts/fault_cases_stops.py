@@ -243,9 +243,11 @@ def _(t):
 @case("mcap-disk-full", "--mcap with the file size limit of 150 KB (as a full disk): the recording stops, "
       "the run and its other outputs go on", 1, r"outputs not written: .*--mcap", short=True)
 def _(t):
-    t.writable.add(t.path("rec.mcap"))
+    t.writable.update({t.path("rec.mcap"), t.path("rec.mcap.part")})
     t.run(t.dataset(), "--max-frames", 20, "--sequential", "--mcap", t.path("rec.mcap"), frames=(20, 20),
           limits=[(resource.RLIMIT_FSIZE, 150_000)])
+    if os.path.exists(t.path("rec.mcap")) or not os.path.isfile(t.path("rec.mcap.part")):
+        t.problem("lost", "the recording that did not fit is not kept as rec.mcap.part (or was named rec.mcap)")
     for small in ("objects.json", "trajectory.txt"):
         if not os.path.isfile(t.path("out", small)):
             t.problem("lost", f"{small} not written beside the recording that did not fit")

@@ -47,9 +47,13 @@ void CheckNodeOutputs(const NodeConfig& c, const fs::path& out, const std::strin
   OutputPlan plan;
   plan.Reads(c.file, "the configuration file given with ~config");
   app::PlanRunOutputs(plan, c.config, out, "~out", c.folder);
-  if (!mcap.empty()) plan.Writes(mcap, "~mcap", std::string(mcap::kFileMagic));
+  if (!mcap.empty()) {
+    plan.Writes(mcap, "~mcap", std::string(mcap::kFileMagic));
+    plan.Writes(mcap + ".part", "~mcap's file while it is written", std::string(mcap::kFileMagic));
+  }
   plan.Check();
   if (mcap.empty()) return;
+  for (const app::foxglove::ChannelInfo& c : app::foxglove::Channels()) app::foxglove::SchemaText(c.schema);
   const fs::path dir = fs::path(mcap).has_parent_path() ? fs::path(mcap).parent_path() : fs::path(".");
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -77,7 +81,7 @@ struct SlamRunner::Impl {
   bool has_detector = false;
   std::unique_ptr<SlamSystem> system;
   std::unique_ptr<app::McapRecorder> recorder;  // after the system: gone before it
-  std::string mcap;
+  std::string mcap, mcap_error;  // the file, and why it could not be opened
   std::vector<FrameReport> reports;
 
   nlohmann::json Stats(const LiveStats& live, const app::RunMaps& maps) const;
@@ -95,7 +99,13 @@ SlamRunner::SlamRunner(const Config& config, bool sequential, std::unique_ptr<De
   impl_->system = std::make_unique<SlamSystem>(config, sequential, std::move(detector));
   impl_->system->EnableSnapshots();
   impl_->mcap = mcap;
-  if (!mcap.empty()) impl_->recorder = std::make_unique<app::McapRecorder>(mcap, *impl_->system, config.camera);
+  if (mcap.empty()) return;
+  try {  // live: a recording that falls behind drops frames, tracking never waits for it
+    impl_->recorder = std::make_unique<app::McapRecorder>(mcap, *impl_->system, config.camera, true);
+  } catch (const std::exception& e) {  // the run goes on without it, and ends naming it
+    impl_->mcap_error = e.what();
+    spdlog::error("~mcap: {}; the run goes on without a recording", impl_->mcap_error);
+  }
 }
 
 SlamRunner::~SlamRunner() = default;
@@ -125,9 +135,10 @@ std::string SlamRunner::SaveNow() {
 bool SlamRunner::Finish(const std::string& ended, const std::string& failure, const LiveStats& live) {
   impl_->system->Finish();
   FailedOutputs failed;
-  if (impl_->recorder) {
+  if (impl_->recorder || !impl_->mcap_error.empty()) {
     failed.Try("~mcap " + impl_->mcap, [&] {
-      if (const std::string error = impl_->recorder->Finish(); !error.empty()) throw InputError(error);
+      const std::string error = impl_->recorder ? impl_->recorder->Finish() : impl_->mcap_error;
+      if (!error.empty()) throw InputError(error);
     });
   }
   const app::RunMaps maps = app::WriteSystemOutputs(impl_->out, *impl_->system, impl_->reports, impl_->has_detector,

@@ -2,10 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <csignal>
 #include <fstream>
 #include <iterator>
 #include <map>
 
+#include <sys/resource.h>
 #include <zstd.h>
 
 #include "sgslam/common/error.h"
@@ -225,20 +227,66 @@ TEST(Mcap, AnEmptyRecordingIsAValidFile) {
   EXPECT_THROW(w.Write(1, 0, 0, ""), Error);
 }
 
+TEST(Mcap, AnEarlierFileStaysUntilTheNewOneIsWhole) {
+  test::TempDir tmp;
+  const auto path = tmp / "run.mcap";
+  { std::ofstream(path) << "the earlier recording"; }
+  {
+    Writer w(path);
+    w.Write(w.AddChannel(0, "/x", "json"), 1, 1, "{}");
+    EXPECT_EQ(ReadAll(path), "the earlier recording");  // written beside it, as run.mcap.part
+    EXPECT_TRUE(std::filesystem::exists(w.part_path()));
+    w.Abandon();  // a run that failed before its first frame
+  }
+  EXPECT_EQ(ReadAll(path), "the earlier recording");
+  EXPECT_FALSE(std::filesystem::exists(tmp / "run.mcap.part"));
+  {
+    Writer w(path);
+    w.Write(w.AddChannel(0, "/x", "json"), 1, 1, "{}");
+  }  // closed: renamed over it
+  EXPECT_EQ(ReadAll(path).substr(0, 8), kMagic);
+  EXPECT_FALSE(std::filesystem::exists(tmp / "run.mcap.part"));
+}
+
+// Writes past a file size limit fail (EFBIG) as on a full disk; the signal such a
+// write raises is ignored meanwhile.
+class FileSizeLimit {
+ public:
+  explicit FileSizeLimit(rlim_t bytes) {
+    getrlimit(RLIMIT_FSIZE, &before_);
+    old_handler_ = std::signal(SIGXFSZ, SIG_IGN);
+    rlimit limit = before_;
+    limit.rlim_cur = bytes;
+    setrlimit(RLIMIT_FSIZE, &limit);
+  }
+  ~FileSizeLimit() {
+    setrlimit(RLIMIT_FSIZE, &before_);
+    std::signal(SIGXFSZ, old_handler_);
+  }
+
+ private:
+  rlimit before_{};
+  void (*old_handler_)(int) = nullptr;
+};
+
 TEST(Mcap, RefusesWhatItCannotWrite) {
   test::TempDir tmp;
   EXPECT_THROW(Writer(tmp / "no" / "such" / "folder.mcap"), InputError);
+  const auto path = tmp / "full.mcap";
   try {
+    const FileSizeLimit limit(4096);
     WriterOptions small;
     small.chunk_size = 64;
-    Writer w("/dev/full", small);
+    Writer w(path, small);
     const auto c = w.AddChannel(0, "/x", "json");
     for (int i = 0; i < 100; ++i) w.Write(c, static_cast<std::uint64_t>(i), 0, std::string(100, 'x'));
     w.Close();
     FAIL() << "a full disk went unnoticed";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("/dev/full"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("full.mcap.part"), std::string::npos) << e.what();
   }
+  EXPECT_FALSE(std::filesystem::exists(path));  // never renamed: what was written stays as .part
+  EXPECT_TRUE(std::filesystem::exists(tmp / "full.mcap.part"));
 }
 
 }  // namespace

@@ -1,9 +1,12 @@
 #include "foxglove_server.h"
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <deque>
 #include <map>
+#include <mutex>
 #include <optional>
 #include <set>
 #include <thread>
@@ -79,6 +82,8 @@ struct FoxgloveServer::Impl {
   std::string address;
   std::uint16_t port = 0;
   std::atomic<std::size_t> clients{0};
+  std::mutex done_mutex;  // with done: the destructor waits for the clients to go
+  std::condition_variable done;
   std::atomic<std::uint64_t> dropped{0};
 
   net::io_context ioc{1};
@@ -116,8 +121,19 @@ class Session : public std::enable_shared_from_this<Session> {
   // subscriptions of it.
   void Deliver(std::size_t channel, std::uint64_t t, const std::string& payload) {
     for (const auto& [id, c] : subscriptions_) {
-      if (c == channel) Queue(MessageFrame(id, t, payload), true);
+      if (c != channel) continue;
+      if (closing_ || queued_bytes_ + 13 + payload.size() > FoxgloveServer::kMaxQueuedBytes) {
+        ++server_.dropped;  // not even copied
+        continue;
+      }
+      Queue(MessageFrame(id, t, payload), true);
     }
+  }
+
+  // The server is going: what is queued is sent, then the close frame.
+  void CloseWhenSent() {
+    closing_ = true;
+    if (!writing_ && ws_) StartClose();
   }
 
   void Close() {
@@ -125,7 +141,13 @@ class Session : public std::enable_shared_from_this<Session> {
     closed_ = true;
     for (const auto& [id, c] : subscriptions_) --server_.subscribers[c];
     subscriptions_.clear();
-    if (server_.sessions.erase(shared_from_this()) > 0) --server_.clients;
+    if (server_.sessions.erase(shared_from_this()) > 0) {
+      {
+        const std::lock_guard lock(server_.done_mutex);
+        --server_.clients;
+      }
+      server_.done.notify_all();
+    }
     beast::error_code ignored;
     if (ws_) {
       beast::get_lowest_layer(*ws_).socket().shutdown(tcp::socket::shutdown_both, ignored);
@@ -193,17 +215,26 @@ class Session : public std::enable_shared_from_this<Session> {
             Status(2, "no channel " + s.at("channelId").dump());
             continue;
           }
-          if (!subscriptions_.emplace(id, *channel).second) {
+          if (subscriptions_.count(id) > 0) {
             Status(2, "subscription " + std::to_string(id) + " is in use");
             continue;
           }
+          if (std::any_of(subscriptions_.begin(), subscriptions_.end(), [&](const auto& sub) { return sub.second == *channel; })) {
+            Status(1, "already subscribed to channel " + s.at("channelId").dump());
+            continue;
+          }
+          subscriptions_.emplace(id, *channel);
           ++server_.subscribers[*channel];
-          if (const auto& last = server_.last[*channel]; last.payload) Queue(MessageFrame(id, last.t, *last.payload), true);
+          const auto& last = server_.last[*channel];
+          if (last.payload && server_.channels[*channel].latched) Deliver(*channel, last.t, *last.payload);
         }
       } else if (op == "unsubscribe") {
         for (const json& id : m.at("subscriptionIds")) {
           const auto it = subscriptions_.find(id.get<std::uint32_t>());
-          if (it == subscriptions_.end()) continue;
+          if (it == subscriptions_.end()) {
+            Status(1, "no subscription " + id.dump());
+            continue;
+          }
           --server_.subscribers[it->second];
           subscriptions_.erase(it);
         }
@@ -221,10 +252,12 @@ class Session : public std::enable_shared_from_this<Session> {
           false);
   }
 
-  // Messages beyond kMaxQueuedBytes are dropped; the protocol's own (text) never.
+  // Messages that do not fit kMaxQueuedBytes are dropped; the protocol's own (text)
+  // are never dropped: a client they no longer fit for is closed.
   void Queue(std::shared_ptr<const std::string> message, bool binary) {
     if (closed_) return;
-    if (binary && queued_bytes_ + message->size() > FoxgloveServer::kMaxQueuedBytes) {
+    if (queued_bytes_ + message->size() > FoxgloveServer::kMaxQueuedBytes) {
+      if (!binary) return Close();
       ++server_.dropped;
       return;
     }
@@ -241,12 +274,17 @@ class Session : public std::enable_shared_from_this<Session> {
       if (ec) return self->Close();
       self->queued_bytes_ -= self->queue_.front().data->size();
       self->queue_.pop_front();
-      if (self->queue_.empty()) {
-        self->writing_ = false;
-      } else {
-        self->Write();
-      }
+      if (!self->queue_.empty()) return self->Write();
+      self->writing_ = false;
+      if (self->closing_) self->StartClose();
     });
+  }
+
+  void StartClose() {
+    if (closed_ || close_started_) return;
+    close_started_ = true;
+    ws_->async_close(websocket::close_code::going_away,
+                     [self = shared_from_this()](beast::error_code) { self->Close(); });
   }
 
   struct Out {
@@ -261,7 +299,7 @@ class Session : public std::enable_shared_from_this<Session> {
   std::map<std::uint32_t, std::size_t> subscriptions_;  // subscription id -> channel position
   std::deque<Out> queue_;
   std::size_t queued_bytes_ = 0;
-  bool writing_ = false, closed_ = false;
+  bool writing_ = false, closed_ = false, closing_ = false, close_started_ = false;
 };
 
 }  // namespace
@@ -316,8 +354,19 @@ FoxgloveServer::FoxgloveServer(const std::string& address, std::uint16_t port, s
 }
 
 FoxgloveServer::~FoxgloveServer() {
-  impl_->ioc.stop();
-  impl_->thread.join();
+  Impl& m = *impl_;
+  net::post(m.ioc, [&m] {
+    beast::error_code ignored;
+    m.acceptor.close(ignored);
+    const auto sessions = m.sessions;
+    for (const auto& s : sessions) s->CloseWhenSent();
+  });
+  {
+    std::unique_lock lock(m.done_mutex);
+    m.done.wait_for(lock, kCloseWait, [&m] { return m.clients.load() == 0; });
+  }
+  m.ioc.stop();
+  m.thread.join();
 }
 
 std::uint16_t FoxgloveServer::port() const { return impl_->port; }

@@ -7,15 +7,17 @@
 // Publish() never blocks and never waits for a client: a client's messages wait in
 // a queue of at most kMaxQueuedBytes, beyond which new ones to it are dropped
 // (counted), so a slow client gets fewer messages and one that stops reading costs
-// a bounded amount of memory. The last message of each channel is kept and sent to
-// a new subscriber at once (a map published once a second, or once for a finished
-// run, shows as soon as a panel subscribes). Clients are not authenticated: the
+// a bounded amount of memory. The last message of a latched channel is kept and
+// sent to a new subscriber at once (a map published once a second, or once for a
+// finished run, shows as soon as a panel subscribes). Clients are not authenticated: the
 // server listens on loopback unless told otherwise (a warning then). A client
-// message that is not the protocol's JSON, or over kMaxClientMessage, closes that
-// connection; operations the server does not offer are answered with a status
-// warning.
+// message that is not the protocol's JSON, or over kMaxClientMessage, and a client
+// whose replies (status messages) no longer fit its queue, are closed; operations
+// the server does not offer are answered with a status warning. On destruction each
+// client gets up to kCloseWait to receive what is queued for it, then a close frame.
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -26,12 +28,14 @@ namespace sgslam::viewer {
 struct FoxgloveChannel {
   std::uint32_t id = 0;  // unique, not 0
   std::string topic, encoding, schema_name, schema, schema_encoding;
+  bool latched = false;  // its last message is sent to a new subscriber at once (a map, not a frame's)
 };
 
 class FoxgloveServer {
  public:
   static constexpr std::size_t kMaxQueuedBytes = 16 << 20;  // waiting for one client
   static constexpr std::size_t kMaxClientMessage = 64 << 10;
+  static constexpr std::chrono::milliseconds kCloseWait{2000};
 
   // Listens at once. Throws InputError naming the address when it cannot (port in
   // use, not an address of this machine).

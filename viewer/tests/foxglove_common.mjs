@@ -43,6 +43,10 @@ export function validate(schema, value, where, errors) {
       validate(schema.properties[key], v, `${where}.${key}`, errors);
     }
   }
-  if (type === 'array' && schema.items) value.forEach((v, i) => validate(schema.items, v, `${where}[${i}]`, errors));
+  if (type === 'array') {
+    if (schema.minItems !== undefined && value.length < schema.minItems) errors.push(`${where}: fewer than ${schema.minItems} items`);
+    if (schema.maxItems !== undefined && value.length > schema.maxItems) errors.push(`${where}: more than ${schema.maxItems} items`);
+    if (schema.items) value.forEach((v, i) => validate(schema.items, v, `${where}[${i}]`, errors));
+  }
 }
 

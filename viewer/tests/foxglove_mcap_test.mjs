@@ -138,11 +138,11 @@ const stats = JSON.parse(readFileSync(path.join(out, 'stats.json'), 'utf8'));
   const deadline = Date.now() + 60000;
   while (Date.now() < deadline) {
     await new Promise((r) => setTimeout(r, 200));
-    try { if (statSync(cut).size > 2 << 20) break; } catch { /* not there yet */ }
+    try { if (statSync(`${cut}.part`).size > 2 << 20) break; } catch { /* not there yet */ }
   }
   child.kill('SIGINT');
   const status = await exited;
-  console.log(`interrupted run ended with ${status}`);
+  check(status === 130, `the interrupted run ended with 130 (${status})`);
   const stream = new McapStreamReader({ validateCrcs: true, decompressHandlers: { zstd: (b, n) => decompress(b, new Uint8Array(Number(n))) } });
   stream.append(readFileSync(cut));
   let record;

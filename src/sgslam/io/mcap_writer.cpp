@@ -88,8 +88,8 @@ std::uint32_t Crc32(std::string_view bytes, std::uint32_t crc) {
 }
 
 Writer::Writer(const std::filesystem::path& path, WriterOptions options) : path_(path), options_(std::move(options)) {
-  file_ = std::fopen(path.c_str(), "wb");
-  if (!file_) throw InputError("cannot write " + path.string() + ": " + std::strerror(errno));
+  file_ = std::fopen(part_path().c_str(), "wb");
+  if (!file_) throw InputError("cannot write " + part_path().string() + ": " + std::strerror(errno));
   Put(kFileMagic);
   Put(Record(kHeader).Str(options_.profile).Str(options_.library).Finish());
 }
@@ -103,11 +103,23 @@ Writer::~Writer() {
   }
 }
 
+void Writer::Abandon() {
+  if (file_) {
+    std::fclose(file_);
+    file_ = nullptr;
+    std::error_code ignored;
+    std::filesystem::remove(part_path(), ignored);
+  }
+  if (failure_.empty()) failure_ = "mcap: " + path_.string() + " abandoned";
+}
+
 void Writer::Fail(const std::string& what) {
   const std::string reason = errno ? std::strerror(errno) : "write failed";
   std::fclose(file_);
   file_ = nullptr;
-  throw InputError(what + " " + path_.string() + ": " + reason);
+  failure_ = what + " " + part_path().string() + ": " + reason + " (what was written before is there; " +
+             path_.filename().string() + " was not replaced)";
+  throw InputError(failure_);
 }
 
 void Writer::Put(std::string_view bytes) {
@@ -160,7 +172,10 @@ void Writer::FlushChunk() {
   if (options_.zstd) {
     compressed.resize(ZSTD_compressBound(chunk_.size()));
     const std::size_t n = ZSTD_compress(compressed.data(), compressed.size(), chunk_.data(), chunk_.size(), 3);
-    if (ZSTD_isError(n)) throw Error(std::string("mcap: zstd: ") + ZSTD_getErrorName(n));
+    if (ZSTD_isError(n)) {
+      errno = 0;
+      Fail(std::string("zstd: ") + ZSTD_getErrorName(n) + ", in");
+    }
     compressed.resize(n);
     records = compressed;
   }
@@ -189,6 +204,7 @@ void Writer::FlushChunk() {
 }
 
 void Writer::Close() {
+  if (!failure_.empty()) throw InputError(failure_);
   if (!file_) return;
   FlushChunk();
   Put(Record(kDataEnd).Int(data_crc_).Finish());
@@ -246,7 +262,16 @@ void Writer::Close() {
   std::FILE* f = file_;
   file_ = nullptr;
   errno = 0;
-  if (std::fclose(f) != 0) throw InputError("cannot write " + path_.string() + ": " + std::strerror(errno));
+  if (std::fclose(f) != 0) {
+    failure_ = "cannot write " + part_path().string() + ": " + std::strerror(errno);
+    throw InputError(failure_);
+  }
+  std::error_code ec;
+  std::filesystem::rename(part_path(), path_, ec);
+  if (ec) {
+    failure_ = "cannot rename " + part_path().string() + " to " + path_.string() + ": " + ec.message();
+    throw InputError(failure_);
+  }
 }
 
 }  // namespace sgslam::mcap

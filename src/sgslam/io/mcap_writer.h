@@ -3,8 +3,10 @@
 // its message indexes, so memory stays bounded by one chunk; Close() adds the data
 // end, the summary (schemas, channels, statistics, chunk indexes) and its offsets,
 // which let a reader seek by time. Every record the spec gives a CRC has one.
-// A file not closed (the process killed) keeps its chunks: stream readers read it,
-// indexed readers refuse it.
+// The file is written as <path>.part and renamed to <path> when closed, so an
+// earlier file of that name stays until the new one is whole. A file not closed
+// (the process killed, a full disk) stays as <path>.part with its chunks: stream
+// readers read it, indexed readers refuse it.
 #pragma once
 
 #include <cstdint>
@@ -29,7 +31,7 @@ struct WriterOptions {
 
 class Writer {
  public:
-  // Creates (or truncates) the file and writes the magic and header. Throws
+  // Creates (or truncates) <path>.part and writes the magic and header. Throws
   // InputError naming the path when it cannot.
   explicit Writer(const std::filesystem::path& path, WriterOptions options = {});
   ~Writer();  // closes, when Close() was not called; an error there is logged
@@ -43,12 +45,18 @@ class Writer {
                            const std::map<std::string, std::string>& metadata = {});
   // log_time: ns, when it was recorded (Foxglove plays by it); publish_time: ns.
   void Write(std::uint16_t channel, std::uint64_t log_time, std::uint64_t publish_time, std::string_view data);
-  // The last chunk, the summary and the footer. Throws InputError on a failed
-  // write; afterwards nothing more can be written.
+  // The last chunk, the summary and the footer, then the rename. Throws InputError
+  // on a failed write (now or before); afterwards nothing more can be written.
   void Close();
 
+  // Closes and removes <path>.part: nothing of it is wanted (a run that failed before
+  // its first frame); an earlier file at path stays as it was.
+  void Abandon();
+
   const std::filesystem::path& path() const { return path_; }
+  std::filesystem::path part_path() const { return path_.string() + ".part"; }
   bool closed() const { return file_ == nullptr; }
+  bool failed() const { return !failure_.empty(); }  // a write failed: closed, left as part_path()
   std::uint64_t bytes() const { return offset_ + chunk_.size(); }  // written, and buffered in the open chunk
   std::uint64_t messages() const { return message_count_; }
 
@@ -75,6 +83,7 @@ class Writer {
   std::filesystem::path path_;
   WriterOptions options_;
   std::FILE* file_ = nullptr;
+  std::string failure_;  // why a write failed
   std::uint64_t offset_ = 0;  // bytes in the file
   std::uint32_t data_crc_ = 0;
 

@@ -1,8 +1,5 @@
 #include "sgslam/semantic/semantic_mapper.h"
 
-#include <sys/resource.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <utility>
 
@@ -10,6 +7,7 @@
 
 #include "sgslam/camera/camera.h"
 #include "sgslam/common/stats.h"
+#include "sgslam/common/thread_name.h"
 #include "sgslam/map/keyframe.h"
 
 namespace sgslam {
@@ -43,7 +41,7 @@ SemanticMapper::SemanticMapper(const SemanticConfig& config, std::shared_ptr<con
   // The map is for later use, poses are for now: on two cores the semantic work
   // takes only the time tracking and local mapping leave (Linux: per-thread nice).
   stage_.Start(!sequential, [this](Job job) { Work(std::move(job)); }, [low = config.low_priority] {
-    if (low) setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 19);
+    if (low) LowerThisThreadsPriority();
   });
 }
 
