@@ -149,7 +149,8 @@ def check_outputs(out, poses):
 
 def check_mcap(path, frames):
     """The ~mcap recording finished on Ctrl-C: its footer, and a summary whose
-    statistics count the 11 channels and a stats message per frame (the content is
+    statistics count the 11 channels and at most a stats message per frame (the
+    node's recording drops frames rather than hold tracking up; the content is
     checked by @mcap/core in the Foxglove.Mcap test)."""
     import struct
     data = open(path, "rb").read() if os.path.isfile(path) else b""
@@ -165,9 +166,10 @@ def check_mcap(path, frames):
             n = struct.unpack_from("<I", data, at + 9 + 14 + 12 + 16)[0] // 10
             counts = dict(struct.unpack_from("<HQ", data, at + 9 + 14 + 12 + 16 + 4 + 10 * k) for k in range(n))
         at += 9 + length
-    if channels != 11 or not counts or max(counts.values()) != frames:
+    if channels != 11 or not counts or not 0 < max(counts.values()) <= frames:
         fail(f"{path}: {channels} channels, message counts {counts}; expected 11 and {frames} a channel at most")
-    print(f"~mcap: {len(data) / 1048576:.1f} MiB, {channels} channels, {sum(counts.values())} messages")
+    print(f"~mcap: {len(data) / 1048576:.1f} MiB, {channels} channels, {sum(counts.values())} messages, "
+          f"{max(counts.values())} of {frames} frames recorded")
 
 
 def check_live_outputs(out):
