@@ -53,7 +53,7 @@ void CheckNodeOutputs(const NodeConfig& c, const fs::path& out, const std::strin
   }
   plan.Check();
   if (mcap.empty()) return;
-  for (const app::foxglove::ChannelInfo& c : app::foxglove::Channels()) app::foxglove::SchemaText(c.schema);
+  for (const app::foxglove::ChannelInfo& channel : app::foxglove::Channels()) app::foxglove::SchemaText(channel.schema);
   const fs::path dir = fs::path(mcap).has_parent_path() ? fs::path(mcap).parent_path() : fs::path(".");
   std::error_code ec;
   fs::create_directories(dir, ec);
