@@ -134,12 +134,14 @@ const stats = JSON.parse(readFileSync(path.join(out, 'stats.json'), 'utf8'));
   const child = spawn(args.sgslam, ['run', '--dataset', data, '--out', path.join(args.work, 'cut'), '--mcap', cut,
                                     '--realtime', '--every-frame'], { stdio: 'ignore' });
   const exited = new Promise((resolve) => child.on('exit', (code, signal) => resolve(code ?? signal)));
-  // Until frames have been recorded (the first chunk is on disk), then the signal.
+  // The recording starts just before the first frame (cut.mcap.part appears); the
+  // 90 frames take 3 s at their pace: the signal 1.5 s in, half-way.
   const deadline = Date.now() + 60000;
   while (Date.now() < deadline) {
-    await new Promise((r) => setTimeout(r, 200));
-    try { if (statSync(`${cut}.part`).size > 2 << 20) break; } catch { /* not there yet */ }
+    await new Promise((r) => setTimeout(r, 50));
+    try { statSync(`${cut}.part`); break; } catch { /* not there yet */ }
   }
+  await new Promise((r) => setTimeout(r, 1500));
   child.kill('SIGINT');
   const status = await exited;
   check(status === 130, `the interrupted run ended with 130 (${status})`);
