@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 #include <spdlog/spdlog.h>
 
+#include "listen.h"
 #include "sgslam/common/error.h"
 #include "sgslam/common/thread_name.h"
 
@@ -331,20 +332,8 @@ FoxgloveServer::FoxgloveServer(const std::string& address, std::uint16_t port, s
                        {"metadata", json::object()},
                        {"sessionId", std::to_string(std::chrono::system_clock::now().time_since_epoch().count())}}
                       .dump();
-  m.address = address == "localhost" ? "127.0.0.1" : address;
-  beast::error_code ec;
-  const auto ip = net::ip::make_address(m.address, ec);
-  if (ec) throw InputError("--foxglove: '" + m.address + "' is not an IP address");
-  if (!ip.is_loopback()) {
-    spdlog::warn("foxglove: serving on {}: anyone who can reach it can see the run", m.address);
-  }
-  const tcp::endpoint endpoint(ip, port);
-  const std::string where = m.address + ":" + std::to_string(port);
-  m.acceptor.open(endpoint.protocol(), ec);
-  if (!ec) m.acceptor.set_option(net::socket_base::reuse_address(true), ec);
-  if (!ec) m.acceptor.bind(endpoint, ec);
-  if (!ec) m.acceptor.listen(net::socket_base::max_listen_connections, ec);
-  if (ec) throw InputError("--foxglove: cannot listen on " + where + ": " + ec.message());
+  m.address = address;
+  Listen(m.acceptor, m.address, port, "--foxglove", "see the run");
   m.port = m.acceptor.local_endpoint().port();
   m.Accept();
   m.thread = std::thread([&m] {

@@ -15,6 +15,7 @@
 #include <boost/beast/websocket.hpp>
 #include <spdlog/spdlog.h>
 
+#include "listen.h"
 #include "origin.h"
 #include "sgslam/common/data_dir.h"
 #include "sgslam/common/error.h"
@@ -261,21 +262,8 @@ Server::Server(ServerOptions options, Source& source) : impl_(std::make_unique<I
     throw Error("viewer: no index.html in " + m.options.assets.string() +
                 " (the page's files, copied there by a build with SGSLAM_VIEWER on)");
   }
-  if (m.options.address == "localhost") m.options.address = "127.0.0.1";
-  beast::error_code ec;
-  const auto address = net::ip::make_address(m.options.address, ec);
-  if (ec) throw InputError("viewer: '" + m.options.address + "' is not an IP address");
-  if (!address.is_loopback()) {
-    spdlog::warn("viewer: serving on {}: anyone who can reach it can see the run (and pause a live one)",
-                 m.options.address);
-  }
-  const tcp::endpoint endpoint(address, m.options.port);
-  const std::string where = m.options.address + ":" + std::to_string(m.options.port);
-  m.acceptor.open(endpoint.protocol(), ec);
-  if (!ec) m.acceptor.set_option(net::socket_base::reuse_address(true), ec);
-  if (!ec) m.acceptor.bind(endpoint, ec);
-  if (!ec) m.acceptor.listen(net::socket_base::max_listen_connections, ec);
-  if (ec) throw InputError("viewer: cannot listen on " + where + ": " + ec.message());
+  const auto address =
+      Listen(m.acceptor, m.options.address, m.options.port, "viewer", "see the run (and pause a live one)");
   m.port = m.acceptor.local_endpoint().port();
   m.rules.emplace(address.is_loopback(), m.port, m.options.allowed_origins);
   m.hosts_text = std::string(address.is_loopback() ? "loopback hosts (127.0.0.1, localhost, [::1])"
