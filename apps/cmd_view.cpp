@@ -17,6 +17,7 @@
 #include "sgslam/common/regular_file.h"
 #include "sgslam/io/ply.h"
 #include "sgslam/io/trajectory.h"
+#include "sgslam/semantic/object_json.h"
 #include "stop_signals.h"
 
 #ifdef SGSLAM_WITH_VIEWER
@@ -60,18 +61,7 @@ MapSnapshot ReadRunMap(const std::filesystem::path& folder, Timestamp& last) {
     m.cloud.push_back({0, SE3(), std::move(points)});
   }
   if (const auto objects = folder / "objects.json"; OptionalRegularFile(objects, "run output")) {
-    for (const nlohmann::json& o : viewer::ReadRunObjects(objects)) {  // fields checked there
-      ObjectEstimate e;
-      e.id = o.value("id", static_cast<int>(m.objects.size() + 1));
-      e.class_name = o["class"].get<std::string>();
-      e.confidence = o["confidence"].get<double>();
-      for (int k = 0; k < 3; ++k) {
-        e.centroid[k] = o["centroid"][k].get<double>();
-        e.size[k] = o["size"][k].get<double>();
-      }
-      e.exported = true;
-      m.objects.push_back(std::move(e));
-    }
+    m.objects = ObjectsFromJson(viewer::ReadRunObjects(objects));  // its fields checked there
   }
   return m;
 }
