@@ -139,6 +139,18 @@ std::string SchemaText(const std::string& schema) {
   return {std::istreambuf_iterator<char>(in), {}};
 }
 
+std::optional<bool> MapPacer::Take(const MapSnapshot& map, Timestamp t, bool final, bool cloud_wanted) {
+  map_t_ = t;
+  const bool pieces_changed = map.cloud.size() != pieces_;
+  if (!final && any_ && map.keyframes.size() == keyframes_ && !pieces_changed) return std::nullopt;
+  const bool cloud = cloud_wanted && (final || (pieces_changed && ToSeconds(t - cloud_t_) >= kCloudPeriod));
+  any_ = true;
+  keyframes_ = map.keyframes.size();
+  if (cloud) cloud_t_ = t;
+  if (cloud || !cloud_wanted) pieces_ = map.cloud.size();  // a cloud nobody takes is no change to send the map for
+  return cloud;
+}
+
 std::string Base64(const std::uint8_t* data, std::size_t size) {
   static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   std::string out;

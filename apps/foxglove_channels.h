@@ -8,6 +8,7 @@
 #include <array>
 #include <bitset>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -73,6 +74,28 @@ class Encoder {
   CameraConfig camera_;
   int jpeg_quality_;
   MoverTrails trails_;
+};
+
+// When a stream of frames (a recording, a live connection) sends the map's messages:
+// at most every kMapPeriod of the sequence and only when the map changed (a keyframe,
+// the semantic thread's cloud), the cloud at most every kCloudPeriod; everything at
+// the end. One thread's.
+class MapPacer {
+ public:
+  static constexpr double kMapPeriod = 1.0;    // s of the sequence between the map's messages
+  static constexpr double kCloudPeriod = 5.0;  // ... and the dense cloud's
+
+  // Whether the map is due after a frame at time t.
+  bool Due(Timestamp t) const { return !any_ || ToSeconds(t - map_t_) >= kMapPeriod; }
+  // The map taken at time t when due, or at the end (final): nothing to send
+  // (nullopt, it has not changed), or send it, with the cloud (true) or without.
+  // cloud_wanted: false when nobody takes the cloud.
+  std::optional<bool> Take(const MapSnapshot& map, Timestamp t, bool final, bool cloud_wanted = true);
+
+ private:
+  Timestamp map_t_ = 0, cloud_t_ = 0;
+  bool any_ = false;
+  std::size_t keyframes_ = 0, pieces_ = 0;  // of the map sent last; pieces_: of its cloud
 };
 
 // Standard base64 (RFC 4648), as JSON carries Foxglove's bytes fields.

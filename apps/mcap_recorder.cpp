@@ -72,7 +72,7 @@ void McapRecorder::Run() {
       Write(messages);
       last_t_ = (*f)->t;
       any_frame_ = true;
-      if (!any_map_ || ToSeconds(last_t_ - map_t_) >= kMapPeriod) WriteMap(last_t_, false);
+      if (map_pacer_.Due(last_t_)) WriteMap(last_t_, false);
     } catch (const std::exception& e) {
       if (writer_.failed()) {
         error_ = e.what();
@@ -89,25 +89,14 @@ void McapRecorder::Write(const std::vector<foxglove::Message>& messages) {
     const auto t = static_cast<std::uint64_t>(std::max<Timestamp>(0, m.t));
     writer_.Write(channel_ids_[static_cast<std::size_t>(m.channel)], t, t, m.json);
   }
-  bytes_ = writer_.bytes();
-  messages_ = writer_.messages();
 }
 
-// The map when it changed (a keyframe, the semantic thread's cloud), the cloud at
-// most every kCloudPeriod; everything at the end.
 void McapRecorder::WriteMap(Timestamp t, bool final) {
-  map_t_ = t;
   const MapSnapshot map = system_.SnapshotMap();
-  if (!final && any_map_ && map.keyframes.size() == map_keyframes_ && map.cloud.size() == map_pieces_) return;
-  const bool cloud = final || (map.cloud.size() != map_pieces_ && ToSeconds(t - cloud_t_) >= kCloudPeriod);
-  any_map_ = true;
-  map_keyframes_ = map.keyframes.size();
-  if (cloud) {
-    map_pieces_ = map.cloud.size();
-    cloud_t_ = t;
-  }
+  const std::optional<bool> cloud = map_pacer_.Take(map, t, final);
+  if (!cloud) return;
   std::vector<foxglove::Message> messages;
-  encoder_.Map(map, t, cloud, messages);
+  encoder_.Map(map, t, *cloud, messages);
   Write(messages);
 }
 

@@ -5,11 +5,9 @@
 // end, on every stop.
 #pragma once
 
-#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <thread>
 
@@ -44,12 +42,7 @@ class McapRecorder {
   // could not be made is left out (logged), not the recording.
   std::string Finish();
 
-  std::uint64_t bytes() const { return bytes_.load(); }
-  std::uint64_t messages() const { return messages_.load(); }
-
   static constexpr std::size_t kQueuedFrames = 16;
-  static constexpr double kMapPeriod = 1.0;    // s of the sequence between the map's messages
-  static constexpr double kCloudPeriod = 5.0;  // ... and the dense cloud's
 
  private:
   void Run();
@@ -65,11 +58,10 @@ class McapRecorder {
   bool finished_ = false;
   std::string error_;  // the file's failure (the writing thread's, read after it ended)
   std::size_t skipped_ = 0;  // frames whose messages could not be made (the writing thread's)
-  std::atomic<std::uint64_t> bytes_{0}, messages_{0};
-  // The writing thread's: what the last map messages held, and when.
-  Timestamp last_t_ = 0, map_t_ = 0, cloud_t_ = 0;
-  bool any_frame_ = false, any_map_ = false;
-  std::size_t map_keyframes_ = 0, map_pieces_ = 0;
+  // The writing thread's: the last frame's time, and when the map goes.
+  Timestamp last_t_ = 0;
+  bool any_frame_ = false;
+  foxglove::MapPacer map_pacer_;
 };
 
 }  // namespace sgslam::app

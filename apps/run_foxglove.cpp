@@ -52,8 +52,8 @@ struct RunFoxglove::Impl {
   Impl(SlamSystem& s, const std::string& address, int port, const CameraConfig& camera)
       : system(s), encoder(camera), server(Listen(address, port)) {}
 
-  // The thread's: the frames as they come, the map at most every kMapPeriod of the
-  // sequence when someone shows it; only the channels someone subscribed to are made.
+  // The thread's: the frames as they come, the map as its pacer says when someone
+  // shows it; only the channels someone subscribed to are made.
   void Run() {
     NameThisThread("sg-foxglove-pub");
     LowerThisThreadsPriority();  // a display must not slow tracking down
@@ -64,7 +64,7 @@ struct RunFoxglove::Impl {
         encoder.Frame(**f, messages, wanted);
         Publish(*server, messages);
         const Timestamp t = (*f)->t;
-        if (!any_map || ToSeconds(t - map_t) >= kMapPeriod) PublishMap(t, false, wanted);
+        if (map_pacer.Due(t)) PublishMap(t, false, wanted);
       } catch (const std::exception& e) {
         spdlog::error("foxglove: {}", e.what());
       }
@@ -79,28 +79,17 @@ struct RunFoxglove::Impl {
     return wanted;
   }
 
-  // The map when it changed (a keyframe, the semantic thread's cloud), the cloud
-  // at most every kCloudPeriod; everything at the end.
   void PublishMap(Timestamp t, bool final, const foxglove::Encoder::Wanted& wanted) {
-    map_t = t;
     using C = foxglove::Channel;
     const auto want = [&](C c) { return wanted.test(static_cast<std::size_t>(c)); };
-    const bool cloud_due = final || ToSeconds(t - cloud_t) >= kCloudPeriod;
-    if (!final && !want(C::kTrajectory) && !want(C::kMapPoints) && !want(C::kObjects) && !(cloud_due && want(C::kCloud))) {
+    if (!final && !want(C::kTrajectory) && !want(C::kMapPoints) && !want(C::kObjects) && !want(C::kCloud)) {
       return;  // no snapshot of the map for nobody
     }
     const MapSnapshot map = system.SnapshotMap();
-    const bool changed = !any_map || map.keyframes.size() != map_keyframes || map.cloud.size() != map_pieces;
-    if (!final && !changed) return;
-    const bool cloud = cloud_due && want(C::kCloud) && (final || map.cloud.size() != map_pieces);
-    any_map = true;
-    map_keyframes = map.keyframes.size();
-    if (cloud) {
-      cloud_t = t;
-      map_pieces = map.cloud.size();
-    }
+    const std::optional<bool> cloud = map_pacer.Take(map, t, final, want(C::kCloud));
+    if (!cloud) return;
     std::vector<foxglove::Message> messages;
-    encoder.Map(map, t, cloud, messages, wanted);
+    encoder.Map(map, t, *cloud, messages, wanted);
     Publish(*server, messages);
   }
 
@@ -111,10 +100,7 @@ struct RunFoxglove::Impl {
   BoundedQueue<std::shared_ptr<const FrameSnapshot>> frames{1, Overflow::kDropOldest};
   std::thread thread;
   bool finished = false;
-  // The thread's: when the map's messages went last, and what they held.
-  Timestamp map_t = 0, cloud_t = 0;
-  bool any_map = false;
-  std::size_t map_keyframes = 0, map_pieces = 0;
+  foxglove::MapPacer map_pacer;  // the thread's
   Timestamp last_t = 0;  // the run thread's: the last frame's time
 };
 

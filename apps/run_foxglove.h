@@ -33,9 +33,6 @@ class RunFoxglove {
   // After the system's Finish(): the final map, kept for clients that connect later.
   void Finish();
 
-  static constexpr double kMapPeriod = 1.0;    // s of the sequence between the map's messages
-  static constexpr double kCloudPeriod = 5.0;  // ... and the dense cloud's
-
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
