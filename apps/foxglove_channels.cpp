@@ -170,6 +170,20 @@ std::string Base64(const std::uint8_t* data, std::size_t size) {
   return out;
 }
 
+Encoder::Encoder(const CameraConfig& camera, int jpeg_quality) : jpeg_quality_(jpeg_quality) {
+  const CameraConfig& c = camera;
+  const std::string calibration = json{{"frame_id", kCamera},
+                                       {"width", c.width},
+                                       {"height", c.height},
+                                       {"distortion_model", "plumb_bob"},
+                                       {"D", {c.k1, c.k2, c.p1, c.p2, c.k3}},
+                                       {"K", {c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1}},
+                                       {"R", {1, 0, 0, 0, 1, 0, 0, 0, 1}},
+                                       {"P", {c.fx, 0, c.cx, 0, 0, c.fy, c.cy, 0, 0, 0, 1, 0}}}
+                                      .dump();
+  calibration_ = calibration.substr(1);  // after its opening brace: each frame's message puts its time first
+}
+
 void Encoder::Frame(const FrameSnapshot& f, std::vector<Message>& out, const Wanted& wanted) {
   const Timestamp t = f.t;
   const auto want = [&](Channel c) { return wanted.test(static_cast<std::size_t>(c)); };
@@ -187,18 +201,8 @@ void Encoder::Frame(const FrameSnapshot& f, std::vector<Message>& out, const Wan
     Add(out, Channel::kImage, t,
         {{"timestamp", Time(t)}, {"frame_id", kCamera}, {"data", Base64(jpeg.data(), jpeg.size())}, {"format", "jpeg"}});
   }
-  const CameraConfig& c = camera_;
   if (want(Channel::kCalibration)) {
-    Add(out, Channel::kCalibration, t,
-        {{"timestamp", Time(t)},
-         {"frame_id", kCamera},
-         {"width", c.width},
-         {"height", c.height},
-         {"distortion_model", "plumb_bob"},
-         {"D", {c.k1, c.k2, c.p1, c.p2, c.k3}},
-         {"K", {c.fx, 0, c.cx, 0, c.fy, c.cy, 0, 0, 1}},
-         {"R", {1, 0, 0, 0, 1, 0, 0, 0, 1}},
-         {"P", {c.fx, 0, c.cx, 0, 0, c.fy, c.cy, 0, 0, 0, 1, 0}}});
+    out.push_back({Channel::kCalibration, t, R"({"timestamp":)" + Time(t).dump() + "," + calibration_});
   }
 
   // The keypoints by verdict (kept green, rejected red, unjudged grey), the boxes

@@ -55,7 +55,7 @@ struct Message {
 class Encoder {
  public:
   // jpeg_quality: 0-100, the image channel's.
-  explicit Encoder(const CameraConfig& camera, int jpeg_quality = 80) : camera_(camera), jpeg_quality_(jpeg_quality) {}
+  explicit Encoder(const CameraConfig& camera, int jpeg_quality = 80);
 
   using Wanted = std::bitset<kChannels>;  // by Channel: the messages to make
   static Wanted All() { return Wanted().set(); }
@@ -71,8 +71,8 @@ class Encoder {
   static constexpr std::size_t kMaxCloudPoints = 300'000;
 
  private:
-  CameraConfig camera_;
   int jpeg_quality_;
+  std::string calibration_;  // the camera's calibration message but its time: it never changes
   MoverTrails trails_;
 };
 
