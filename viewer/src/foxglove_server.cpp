@@ -95,7 +95,7 @@ struct FoxgloveServer::Impl {
     std::uint64_t t = 0;
     std::shared_ptr<const std::string> payload;
   };
-  std::vector<Last> last;  // per channel
+  std::vector<Last> last;  // per channel, of the latched ones
   std::thread thread;
 };
 
@@ -227,7 +227,7 @@ class Session : public std::enable_shared_from_this<Session> {
           subscriptions_.emplace(id, *channel);
           ++server_.subscribers[*channel];
           const auto& last = server_.last[*channel];
-          if (last.payload && server_.channels[*channel].latched) Deliver(*channel, last.t, *last.payload);
+          if (last.payload) Deliver(*channel, last.t, *last.payload);
         }
       } else if (op == "unsubscribe") {
         for (const json& id : m.at("subscriptionIds")) {
@@ -376,7 +376,7 @@ void FoxgloveServer::Publish(std::uint32_t channel, std::uint64_t t, std::string
   if (!i) throw Error("foxglove: no channel " + std::to_string(channel));
   auto shared = std::make_shared<const std::string>(std::move(payload));
   net::post(m.ioc, [&m, i = *i, t, shared] {
-    m.last[i] = {t, shared};
+    if (m.channels[i].latched) m.last[i] = {t, shared};
     const auto sessions = m.sessions;  // a failed write may close (erase) a session
     for (const auto& s : sessions) s->Deliver(i, t, *shared);
   });
