@@ -382,7 +382,6 @@ void FoxgloveServer::Publish(std::uint32_t channel, std::uint64_t t, std::string
   });
 }
 
-std::size_t FoxgloveServer::clients() const { return impl_->clients.load(); }
 std::uint64_t FoxgloveServer::dropped() const { return impl_->dropped.load(); }
 
 }  // namespace sgslam::viewer

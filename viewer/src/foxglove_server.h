@@ -54,7 +54,6 @@ class FoxgloveServer {
   // subscribers, and kept for later ones.
   void Publish(std::uint32_t channel, std::uint64_t t, std::string payload);
 
-  std::size_t clients() const;
   std::uint64_t dropped() const;  // messages not sent to a client that was behind
 
   struct Impl;
