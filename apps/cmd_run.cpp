@@ -8,6 +8,7 @@
 #include <string>
 
 #include "commands.h"
+#include "port_option.h"
 #include "run_pipeline.h"
 #include "run_foxglove.h"
 #include "run_viewer.h"
@@ -57,42 +58,32 @@ Action AddRunCommand(CLI::App& root) {
   cmd->add_option("--mcap", o->mcap,
                   "Record the run to FILE as MCAP for Foxglove: camera pose, image with keypoints and boxes, "
                   "trajectory, map, dense cloud, objects, mover tracks (docs/foxglove.md)");
-  auto foxglove_text = std::make_shared<std::string>();
-  CLI::Option* foxglove =
-      cmd->add_option("--foxglove", *foxglove_text,
-                      "Serve the run live to Foxglove (its WebSocket protocol) on 127.0.0.1 port " +
-                          std::to_string(kDefaultFoxglovePort) +
-                          " (--foxglove=PORT for another; 0: any free port); the same channels as --mcap")
-          ->expected(0, 1)
-          ->check(CLI::Range(0, 65535));
+  const PortOption foxglove(*cmd, "--foxglove", kDefaultFoxglovePort,
+                            "Serve the run live to Foxglove (its WebSocket protocol) on 127.0.0.1 port " +
+                                std::to_string(kDefaultFoxglovePort) +
+                                " (--foxglove=PORT for another; 0: any free port); the same channels as --mcap");
   cmd->add_option("--foxglove-address", o->foxglove_address,
                   "With --foxglove: the address to serve on (default 127.0.0.1: this machine only; another lets "
                   "anyone who can reach it see the run)")
-      ->needs(foxglove);
-  auto viewer_text = std::make_shared<std::string>();
-  CLI::Option* viewer =
-      cmd->add_option("--viewer", *viewer_text,
-                      "Serve a live view of the run in a web browser, on 127.0.0.1 port " +
-                          std::to_string(kDefaultViewerPort) +
-                          " (--viewer=PORT for another; 0: any free port); its address is printed")
-          ->expected(0, 1)
-          ->check(CLI::Range(0, 65535));
+      ->needs(foxglove.option());
+  const PortOption viewer(*cmd, "--viewer", kDefaultViewerPort,
+                          "Serve a live view of the run in a web browser, on 127.0.0.1 port " +
+                              std::to_string(kDefaultViewerPort) +
+                              " (--viewer=PORT for another; 0: any free port); its address is printed");
   cmd->add_option("--viewer-address", o->viewer_address,
                   "With --viewer: the address to serve on (default 127.0.0.1: this machine only; another lets "
                   "anyone who can reach it watch and pause the run)")
-      ->needs(viewer);
+      ->needs(viewer.option());
   cmd->add_option("--viewer-origin", o->viewer_origins,
                   "With --viewer: also let pages at ORIGIN (http://HOST[:PORT] or https://HOST[:PORT]; repeatable) "
                   "open the view, and answer to its host: for a name or a proxy in front of the viewer (default: "
                   "only the viewer's own page at a loopback or, with --viewer-address, IP address)")
       ->type_name("ORIGIN")
       ->check(CLI::Validator(ViewerOriginError, "", "origin"))
-      ->needs(viewer);
-  return [o, viewer, viewer_text, foxglove, foxglove_text] {
-    if (viewer->count() > 0) o->viewer_port = viewer_text->empty() ? kDefaultViewerPort : std::stoi(*viewer_text);
-    if (foxglove->count() > 0) {
-      o->foxglove_port = foxglove_text->empty() ? kDefaultFoxglovePort : std::stoi(*foxglove_text);
-    }
+      ->needs(viewer.option());
+  return [o, viewer, foxglove] {
+    o->viewer_port = viewer.port();
+    o->foxglove_port = foxglove.port();
     const RunSummary s = RunSequence(*o);
     std::printf("%s\n", FormatSummary(s).c_str());
     return s.stopped_by ? 128 + s.stopped_by : kExitOk;  // the shell's status for a stop by that signal

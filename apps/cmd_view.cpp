@@ -10,6 +10,7 @@
 #include <spdlog/spdlog.h>
 
 #include "commands.h"
+#include "port_option.h"
 #include "run_foxglove.h"
 #include "run_pipeline.h"
 #include "run_viewer.h"
@@ -109,17 +110,12 @@ Action AddViewCommand(CLI::App& root) {
                   "viewer's own page at a loopback or, with --address, IP address)")
       ->type_name("ORIGIN")
       ->check(CLI::Validator(ViewerOriginError, "", "origin"));
-  auto foxglove_text = std::make_shared<std::string>();
-  CLI::Option* foxglove =
-      cmd->add_option("--foxglove", *foxglove_text,
-                      "Also serve the run's map, trajectory, cloud and objects to Foxglove (its WebSocket protocol), "
-                      "port " + std::to_string(kDefaultFoxglovePort) + " (--foxglove=PORT for another; 0: any free port)")
-          ->expected(0, 1)
-          ->check(CLI::Range(0, 65535));
-  return [o, foxglove, foxglove_text] {
-    if (foxglove->count() > 0) {
-      o->foxglove_port = foxglove_text->empty() ? kDefaultFoxglovePort : std::stoi(*foxglove_text);
-    }
+  const PortOption foxglove(*cmd, "--foxglove", kDefaultFoxglovePort,
+                            "Also serve the run's map, trajectory, cloud and objects to Foxglove (its WebSocket "
+                            "protocol), port " + std::to_string(kDefaultFoxglovePort) +
+                                " (--foxglove=PORT for another; 0: any free port)");
+  return [o, foxglove] {
+    o->foxglove_port = foxglove.port();
     return View(*o);
   };
 }
