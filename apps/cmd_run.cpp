@@ -55,6 +55,10 @@ Action AddRunCommand(CLI::App& root) {
                 "With --load-map: track in the map without adding keyframes or points (dynamic rejection stays on)")
       ->needs(load);
   cmd->add_option("--save-map", o->save_map, "Save the whole map to FILE at the end (and on SIGUSR1 during the run)");
+  cmd->add_option("--object-truth", o->object_truth,
+                  "Score the object map against this list of the sequence's true objects (stats.json's "
+                  "semantic.objects_truth; docs/object-map.md); default: the dataset's objects_gt.json, if any")
+      ->check(CLI::ExistingFile);
   cmd->add_option("--mcap", o->mcap,
                   "Record the run to FILE as MCAP for Foxglove: camera pose, image with keypoints and boxes, "
                   "trajectory, map, dense cloud, objects, mover tracks (docs/foxglove.md)");

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <opencv2/imgcodecs.hpp>
 
+#include "sgslam/semantic/object_json.h"
 #include "sgslam/common/data_dir.h"
 #include "sgslam/common/error.h"
 
@@ -337,7 +338,7 @@ void Encoder::Map(const MapSnapshot& m, Timestamp t, bool cloud, std::vector<Mes
     json e = Entity(t, fmt::format("object/{}", o.id));
     e["cubes"].push_back({{"pose", Pose(o.centroid)}, {"size", Vec3(o.size)}, {"color", Rgba(0.3f, 0.64f, 1.f, 0.25f)}});
     const Eigen::Vector3d above = o.centroid - Eigen::Vector3d(0, o.size.y() / 2 + 0.05, 0);
-    e["texts"].push_back(Label(above, fmt::format("{} {:.2f}", o.class_name, o.confidence), Rgba(1, 1, 1), 12));
+    e["texts"].push_back(Label(above, ObjectLabel(o), Rgba(1, 1, 1), 12));
     objects.push_back(std::move(e));
   }
   Add(out, Channel::kObjects, t, SceneUpdate(t, std::move(objects)));

@@ -128,7 +128,8 @@ void WriteLiveOutputs(const std::filesystem::path& out, SlamSystem& system, cons
     }
     WritePly(out / "cloud_live.ply", points, colours);
   });
-  failed.Try("objects.json", [&] { WriteObjectsJson(out / "objects.json", map.objects); });
+  failed.Try("objects.json",
+             [&] { WriteObjectsJson(out / "objects.json", map.objects, sem->config().object_candidates); });
   RequestLiveOctoMap(out, *sem);
 }
 
@@ -165,7 +166,8 @@ nlohmann::json WriteSemanticMap(const std::filesystem::path& out, SlamSystem& sy
   system.ExportSemantic(cloud, colours, objects);
   write_output("cloud.ply", [&] { WritePly(out / "cloud.ply", cloud, colours); });
   write_output("octomap.bt", [&] { sem->octomap().Write(out / "octomap.bt"); });
-  write_output("objects.json", [&] { WriteObjectsJson(out / "objects.json", objects); });
+  write_output("objects.json",
+               [&] { WriteObjectsJson(out / "objects.json", objects, sem->config().object_candidates); });
   write_output("map_top.png", [&] { WriteTopView(out / "map_top.png", cloud, colours, objects, trajectory); });
   if (print_objects) PrintObjectTable(objects);
   const SemanticStats st = sem->stats();
@@ -184,7 +186,9 @@ nlohmann::json WriteSemanticMap(const std::filesystem::path& out, SlamSystem& sy
           {"cloud_points_removed_as_seen_moving", sem->seen_moving_points()},
           {"cloud_points_removed_as_seen_once", sem->unsupported_points()},
           {"octomap_occupied_leaves", sem->octomap().OccupiedLeaves()},
-          {"objects", std::count_if(objects.begin(), objects.end(), [](const auto& e) { return e.exported; })}};
+          {"objects", std::count_if(objects.begin(), objects.end(), [](const auto& e) { return e.exported; })},
+          {"object_candidates", std::count_if(objects.begin(), objects.end(), [](const auto& e) { return !e.exported; })},
+          {"objects_removed", sem->objects_removed()}};
 }
 
 namespace {

@@ -24,6 +24,7 @@
 #include "sgslam/detection/people_scale.h"
 #include "sgslam/eval/ate.h"
 #include "sgslam/eval/evaluate.h"
+#include "sgslam/eval/object_score.h"
 #include "sgslam/eval/track_score.h"
 #include "sgslam/io/frame_stream.h"
 #include "sgslam/io/output_plan.h"
@@ -332,13 +333,43 @@ void AddSemanticTruth(const TruthScorer& truth, const SemanticMapper& sem, const
   }
 }
 
+// The object map against the sequence's true objects (--object-truth, or the
+// dataset's objects_gt.json), in the ground truth's world by the trajectory's ATE
+// alignment, into semantic["objects_truth"]; a list or a ground truth that cannot
+// be read costs the scores (warned), not stats.json. An --object-truth the run
+// cannot score (no ground truth, no trajectory) is said.
+void AddObjectTruth(const RunOptions& o, const TumDataset& dataset, const SlamSystem& system,
+                    const Trajectory& trajectory, nlohmann::json& semantic) {
+  fs::path list = o.object_truth;
+  if (list.empty() && fs::is_regular_file(dataset.dir() / "objects_gt.json")) list = dataset.dir() / "objects_gt.json";
+  if (list.empty()) return;
+  const auto gt_path = dataset.groundtruth_path();
+  if (!gt_path || trajectory.size() < 3) {
+    spdlog::warn("--object-truth {}: not scored, the run needs ground truth and 3 poses", list.string());
+    return;
+  }
+  try {
+    const auto truth = eval::LoadObjectTruth(list);
+    const auto ate = eval::ComputeAte(ReadTumTrajectory(*gt_path), trajectory, FromSeconds(0.02));
+    std::vector<ObjectEstimate> objects = system.ExportObjects(ate.T_gt_est);
+    std::erase_if(objects, [](const ObjectEstimate& e) { return !e.exported; });
+    semantic["objects_truth"] = eval::ToJson(eval::ScoreObjects(truth, objects));
+    semantic["objects_truth"]["list"] = list.string();
+  } catch (const std::exception& e) {
+    spdlog::warn("no scores of the object map against {}: {}", list.string(), e.what());
+  }
+}
+
 // Every output but stats.json, each on its own (run_outputs.h), and the semantic
-// map's scores against the dataset's ground-truth masks.
+// map's scores against the dataset's ground-truth masks and true objects.
 RunMaps WriteOutputs(const RunOptions& o, const Config& config, const TumDataset& dataset, FrameLoop& loop,
                      SlamSystem& system, const TruthScorer& truth, bool has_detector, const fs::path& out,
                      FailedOutputs& failed) {
   RunMaps maps = WriteSystemOutputs(out, system, loop.reports, has_detector, o.print_objects, failed);
-  if (const SemanticMapper* sem = system.semantic()) AddSemanticTruth(truth, *sem, dataset, config.camera, maps.semantic);
+  if (const SemanticMapper* sem = system.semantic()) {
+    AddSemanticTruth(truth, *sem, dataset, config.camera, maps.semantic);
+    AddObjectTruth(o, dataset, system, maps.trajectory, maps.semantic);
+  }
   return maps;
 }
 

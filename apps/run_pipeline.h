@@ -39,6 +39,9 @@ struct RunOptions {
   std::string foxglove_address = "127.0.0.1";
   std::string mcap;  // --mcap FILE: the run recorded for Foxglove (mcap_recorder.h); empty: none
   bool print_objects = true;  // the end-of-run object table on stdout
+  // --object-truth FILE: the sequence's true objects, to score the object map
+  // against (eval/object_score.h); empty: the dataset's objects_gt.json, if any.
+  std::string object_truth;
   // Programmatic overrides after the file and the options above (the demo's
   // comparison runs); `tweak_name` is added to the configuration's source.
   std::function<void(Config&)> tweak;

@@ -8,8 +8,10 @@
 
 namespace sgslam::app {
 
-// Exported objects only (ObjectEstimate::exported), with the map frame's definition.
-void WriteObjectsJson(const std::filesystem::path& path, const std::vector<ObjectEstimate>& objects);
+// The exported objects (ObjectEstimate::exported), with the map frame's definition;
+// candidates: the others too, in a list of their own (semantic.object_candidates).
+void WriteObjectsJson(const std::filesystem::path& path, const std::vector<ObjectEstimate>& objects,
+                      bool candidates = false);
 void PrintObjectTable(const std::vector<ObjectEstimate>& objects);
 
 }  // namespace sgslam::app

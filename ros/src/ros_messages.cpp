@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <opencv2/imgproc.hpp>
 #include <sensor_msgs/image_encodings.h>
+#include "sgslam/semantic/object_json.h"
 
 namespace sgslam::ros_bridge {
 
@@ -299,7 +300,7 @@ visualization_msgs::MarkerArray ObjectMarkers(const std::vector<ObjectEstimate>&
     const visualization_msgs::Marker box = WireBox(clear.header, "objects", o.id, lo, hi, 0.01, Colour(0.3f, 0.64f, 1.f));
     array.markers.push_back(box);
     visualization_msgs::Marker label =
-        LabelAbove(box, "labels", o.centroid, lo.y(), 0.05, 0.1, fmt::format("{} {:.2f}", o.class_name, o.confidence));
+        LabelAbove(box, "labels", o.centroid, lo.y(), 0.05, 0.1, ObjectLabel(o));
     label.color = Colour(1.f, 1.f, 1.f);
     array.markers.push_back(label);
   }

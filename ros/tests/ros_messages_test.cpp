@@ -135,6 +135,7 @@ TEST(RosOutputs, PoseCloudMarkersAndImage) {
 
   ObjectEstimate chair;
   chair.id = 7, chair.class_name = "chair", chair.confidence = 0.834, chair.exported = true;
+  chair.class_share = 0.75, chair.observations = 5;
   chair.centroid = {0, 0, 2}, chair.size = {0.5, 1, 0.5};
   ObjectEstimate unsure = chair;
   unsure.exported = false;
@@ -142,7 +143,7 @@ TEST(RosOutputs, PoseCloudMarkersAndImage) {
   ASSERT_EQ(markers.markers.size(), 3u);  // DELETEALL, the box, its label: the unexported one is not shown
   EXPECT_EQ(markers.markers[0].action, visualization_msgs::Marker::DELETEALL);
   EXPECT_EQ(markers.markers[1].points.size(), 24u);  // 12 edges
-  EXPECT_EQ(markers.markers[2].text, "chair 0.83");
+  EXPECT_EQ(markers.markers[2].text, "chair 75% \u00b7 5 views");
 
   const auto cells = CellMarker({{0, 0, 1, 0.05f}, {0, -1, 1, 0.05f}}, "map", ros::Time(1));
   ASSERT_EQ(cells.points.size(), 2u);

@@ -55,7 +55,7 @@ TEST(MapCommand, SaveInfoAndLoad) {
   EXPECT_EQ(stats["map_file"]["saves"], 1);
   const auto info = RunSgslam({"map", "info", m.map.string()});
   ASSERT_EQ(info.exit_code, 0) << info.output;
-  for (const char* part : {"MB", "format version 1", "keyframes", "map points", "semantic map"}) {
+  for (const char* part : {"MB", "format version 2", "keyframes", "map points", "semantic map"}) {
     EXPECT_NE(info.output.find(part), std::string::npos) << part << " not in " << info.output;
   }
   auto args = m.Run("again");

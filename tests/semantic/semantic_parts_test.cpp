@@ -229,7 +229,7 @@ TEST(ObserveObject, ARecessedPartWithinTheBoxWidthBelongsToTheObject) {
   depth(cv::Rect(225, 258, 50, 72)).setTo(2.15 * 5000);  // pot, rows 258-329
   const Detection d{58, "pottedplant", 0.8f, cv::Rect2f(190, 140, 120, 200)};
   const auto lowest = [&](const ObserveObjectOptions& o) {
-    const auto obs = ObserveObject(d, depth, 5000, rays, SemanticConfig(), {}, o);
+    const auto obs = ObserveObject(d, depth, 5000, rays, SemanticConfig(), {}, cv::Mat(), o);
     EXPECT_TRUE(obs.has_value());
     float y_max = -1e9f;
     for (const auto& p : obs ? obs->points_c : std::vector<Eigen::Vector3f>{}) {
@@ -290,7 +290,7 @@ TEST(ObserveObject, FloorInTheBoxIsBackgroundNotObject) {
     }
   const Detection d{56, "chair", 0.8f, cv::Rect2f(230, 180, 180, 290)};
   const auto extent = [&](const ObserveObjectOptions& o) {
-    const auto obs = ObserveObject(d, depth, 5000, rays, SemanticConfig(), {}, o);
+    const auto obs = ObserveObject(d, depth, 5000, rays, SemanticConfig(), {}, cv::Mat(), o);
     EXPECT_TRUE(obs.has_value());
     Eigen::Vector3f lo = Eigen::Vector3f::Constant(1e9), hi = -lo;
     for (const auto& p : obs ? obs->points_c : std::vector<Eigen::Vector3f>{}) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
@@ -309,80 +309,6 @@ TEST(ObserveObject, FloorInTheBoxIsBackgroundNotObject) {
   const auto [lo0, hi0] = extent(o);
   EXPECT_LT(lo0.x(), -0.3);
   EXPECT_LT(lo0.z(), 1.76);
-}
-
-TEST(ObjectDatabase, MergesViewsOfOneObjectAndKeepsOthersApart) {
-  SemanticConfig c;
-  ObjectDatabase db(c, nullptr, {640, 480});
-  const auto cube = [](const Eigen::Vector3f& centre, float side) {
-    ObjectObservation o;
-    o.class_id = 56;
-    o.class_name = "chair";
-    o.score = 0.9f;
-    for (int i = 0; i < 10; ++i)
-      for (int j = 0; j < 10; ++j)
-        for (int k = 0; k < 10; ++k) o.points_c.push_back(centre + side * (Eigen::Vector3f(i, j, k) / 9.0f - Eigen::Vector3f::Constant(0.5f)));
-    return o;
-  };
-  const int a = db.Add(cube({1, 0, 2}, 0.5f), SE3());
-  EXPECT_EQ(db.Add(cube({1.05f, 0, 2}, 0.5f), SE3()), a);  // the same chair, seen again
-  ObjectObservation table = cube({1, 0, 2}, 0.5f);
-  table.class_name = "diningtable";
-  table.class_id = 60;
-  EXPECT_NE(db.Add(table, SE3()), a);                 // another class
-  EXPECT_NE(db.Add(cube({3, 0, 2}, 0.5f), SE3()), a);  // another chair, 2 m away
-  const auto est = db.Estimate([](const KeyFrame&) { return SE3(); });
-  ASSERT_EQ(est.size(), 3u);
-  EXPECT_TRUE(est[0].exported);
-  EXPECT_EQ(est[0].observations, 2);
-  EXPECT_NEAR(est[0].centroid.x(), 1.025, 0.02);
-  EXPECT_NEAR(est[0].size.y(), 0.5, 0.03);
-  EXPECT_FALSE(est[1].exported);  // seen once
-  EXPECT_GT(est[0].confidence, est[1].confidence);
-}
-
-// A view cut by the image border starts an object (it may never be seen whole) that
-// is marked incomplete and exported from one view more than a whole one; once a
-// whole view comes, the cut views' samples (which drag in floor or wall on the cut
-// side) no longer shape its box.
-TEST(ObjectDatabase, CutViewsStartObjectsButAWholeViewShapesThem) {
-  ASSERT_EQ(kObjectMinObservations, 2);
-  SemanticConfig c;
-  ObjectDatabase db(c, nullptr, {640, 480});
-  const auto slab = [](float x0, float x1, bool cut) {
-    ObjectObservation o;
-    o.class_id = 57;
-    o.class_name = "sofa";
-    o.score = 0.9f;
-    o.cut = cut;
-    for (int i = 0; i <= 20; ++i)
-      for (int j = 0; j <= 10; ++j) o.points_c.emplace_back(x0 + (x1 - x0) * i / 20.0f, 0.5f * j / 10.0f - 0.25f, 2.0f);
-    return o;
-  };
-  // Two cut views: the part in view, and a second that took in 0.6 m of the wall beside it.
-  const int id = db.Add(slab(0.0f, 1.0f, true), SE3());
-  EXPECT_GT(id, 0);
-  EXPECT_EQ(db.Add(slab(0.0f, 2.4f, true), SE3()), id);
-  auto est = db.Estimate([](const KeyFrame&) { return SE3(); });
-  ASSERT_EQ(est.size(), 1u);
-  EXPECT_FALSE(est[0].complete);
-  EXPECT_FALSE(est[0].exported);  // 2 views, all cut: one more than kObjectMinObservations needed
-  EXPECT_GT(est[0].size.x(), 2.2);  // only cut views: all of them count
-  // A third cut view: exported, still incomplete.
-  EXPECT_EQ(db.Add(slab(0.0f, 1.0f, true), SE3()), id);
-  est = db.Estimate([](const KeyFrame&) { return SE3(); });
-  ASSERT_EQ(est.size(), 1u);
-  EXPECT_FALSE(est[0].complete);
-  EXPECT_TRUE(est[0].exported);
-  EXPECT_GT(est[0].size.x(), 2.2);
-  // The whole sofa, 1.8 m, in one view.
-  EXPECT_EQ(db.Add(slab(0.0f, 1.8f, false), SE3()), id);
-  est = db.Estimate([](const KeyFrame&) { return SE3(); });
-  ASSERT_EQ(est.size(), 1u);
-  EXPECT_TRUE(est[0].complete);
-  EXPECT_TRUE(est[0].exported);
-  EXPECT_NEAR(est[0].size.x(), 1.8, 0.05);
-  EXPECT_EQ(est[0].observations, 4);
 }
 
 TEST(OctoMapBuilder, WallIsOccupiedTheSpaceBeforeItFreeAndTheFileReloads) {

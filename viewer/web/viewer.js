@@ -269,7 +269,8 @@ function showObjects(objects) {
                                        new THREE.LineBasicMaterial({ color: 0xffd23d }));
     box.position.set(...o.centroid);
     objectBoxes.add(box);
-    const l = label(`${o.class} ${o.confidence.toFixed(2)}`);
+    // The class the views voted for, its share of the votes and the views (docs/object-map.md).
+    const l = label(`${o.class} ${Math.round(100 * (o.class_share ?? 1))}% · ${o.observations} views`);
     l.position.set(o.centroid[0], o.centroid[1] - o.size[1] / 2 - 0.08, o.centroid[2]);
     objectBoxes.add(l);
   }

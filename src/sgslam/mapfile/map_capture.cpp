@@ -115,8 +115,9 @@ ImageData ToData(const cv::Mat& image) {
 }
 
 ObjectData ToData(const ObjectDatabase::Object& o) {
-  ObjectData d{o.id, o.class_id, o.class_name, {}, {o.box.min.x(), o.box.min.y(), o.box.min.z()},
-               {o.box.max.x(), o.box.max.y(), o.box.max.z()}};
+  const ObjectDatabase::ClassVote c = ObjectDatabase::WinningClass(o);
+  ObjectData d{o.id, c.class_id, c.class_name, {}, {o.box.min.x(), o.box.min.y(), o.box.min.z()},
+               {o.box.max.x(), o.box.max.y(), o.box.max.z()}, o.views_expected, o.views_seen, o.missing};
   for (const ObjectObservation& obs : o.observations) {
     ObjectObservationData od;
     od.keyframe = obs.keyframe ? obs.keyframe->id : kNoId;
@@ -303,9 +304,12 @@ cv::Mat FromData(const ImageData& d) {
 }
 
 ObjectDatabase::Object FromData(const ObjectData& d, const std::map<std::uint64_t, std::shared_ptr<KeyFrame>>& kfs) {
-  ObjectDatabase::Object o{d.id, d.class_id, d.class_name, {},
-                           {Eigen::Vector3d(d.box_min[0], d.box_min[1], d.box_min[2]),
-                            Eigen::Vector3d(d.box_max[0], d.box_max[1], d.box_max[2])}};
+  // The class and the box follow from the observations (ObjectDatabase::Restore).
+  ObjectDatabase::Object o;
+  o.id = d.id;
+  o.views_expected = d.views_expected;
+  o.views_seen = d.views_seen;
+  o.missing = d.missing;
   for (const ObjectObservationData& od : d.observations) {
     ObjectObservation obs;
     if (od.keyframe != kNoId) obs.keyframe = kfs.at(od.keyframe);

@@ -141,13 +141,15 @@ void CheckSemantic(const MapData& d, const std::string& what, const std::map<std
     }
   }
   for (const ObjectData& o : d.semantic.objects) {
-    bool ok = AllFinite(o.box_min) && AllFinite(o.box_max);
+    bool ok = AllFinite(o.box_min) && AllFinite(o.box_max) && !o.observations.empty() && o.views_seen >= 0 &&
+              o.views_expected >= o.views_seen && o.missing >= 0;
     for (const ObjectObservationData& obs : o.observations) {
       ok = ok && (obs.keyframe == kNoId || kfs.count(obs.keyframe)) && Finite(obs.T_w_c_added) && AllFinite(obs.box) &&
            std::isfinite(obs.score) &&
            std::all_of(obs.points_c.begin(), obs.points_c.end(), [](const auto& p) { return AllFinite(p); });
     }
-    if (!ok) FailMapFile(what, "object " + std::to_string(o.id) + " is inconsistent (an unknown keyframe or a value not finite)");
+    if (!ok) FailMapFile(what, "object " + std::to_string(o.id) +
+                                   " is inconsistent (no view, an unknown keyframe, a count or a value out of range)");
   }
 }
 

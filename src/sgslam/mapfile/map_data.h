@@ -117,6 +117,7 @@ struct ObjectData {
   std::string class_name;
   std::vector<ObjectObservationData> observations;
   std::array<double, 3> box_min{}, box_max{};
+  std::int32_t views_expected = 0, views_seen = 0, missing = 0;  // since format version 2
   bool operator==(const ObjectData&) const = default;
 };
 

@@ -28,6 +28,9 @@ namespace {
 // than the bytes left could hold (cereal's own vector and string loaders resize first).
 thread_local const std::istream* g_payload = nullptr;
 thread_local std::size_t g_payload_size = 0;
+// The format version of the file being decoded (0: encoding): version 1 files are
+// read too, their objects without the views' counts.
+thread_local std::uint32_t g_reading_version = 0;
 
 // Throws when n elements of `bytes` bytes each (in memory) cannot come from the
 // bytes left: an arithmetic element takes its size in the stream, any other at least
@@ -137,6 +140,7 @@ void serialize(A& ar, ObjectObservationData& o) {
 template <class A>
 void serialize(A& ar, ObjectData& o) {
   ar(o.id, o.class_id, o.class_name, o.observations, o.box_min, o.box_max);
+  if (g_reading_version == 0 || g_reading_version >= 2) ar(o.views_expected, o.views_seen, o.missing);
 }
 template <class A>
 void serialize(A& ar, SemanticData& s) {
@@ -188,6 +192,7 @@ std::string Encode(const MapData& data) {
 namespace {
 
 struct Header {
+  std::uint32_t version = 0;
   std::uint64_t payload_bytes = 0;
   std::string checksum;  // SHA-256 of the payload, 32 raw bytes
 };
@@ -201,10 +206,11 @@ Header ParseHeader(std::string_view bytes, std::uint64_t file_bytes, const std::
   Header h;
   std::memcpy(&version, bytes.data() + 8, sizeof version);
   std::memcpy(&h.payload_bytes, bytes.data() + 12, sizeof h.payload_bytes);
-  if (version != kFormatVersion) {
-    FailMapFile(what, "format version " + std::to_string(version) + "; this sgslam reads version " +
-                   std::to_string(kFormatVersion));
+  if (version < kOldestFormatVersion || version > kFormatVersion) {
+    FailMapFile(what, "format version " + std::to_string(version) + "; this sgslam reads versions " +
+                   std::to_string(kOldestFormatVersion) + " to " + std::to_string(kFormatVersion));
   }
+  h.version = version;
   if (h.payload_bytes != file_bytes - kHeaderBytes) {
     FailMapFile(what, "truncated or padded: the header says " + std::to_string(h.payload_bytes) +
                    " payload bytes, the file has " + std::to_string(file_bytes - kHeaderBytes));
@@ -232,15 +238,19 @@ class PayloadBuffer : public std::streambuf {
 [[noreturn]] void ChecksumMismatch(const std::string& what) { FailMapFile(what, "checksum mismatch (the file is corrupt)"); }
 
 // The payload, whose checksum the caller has checked.
-MapData DecodePayload(const std::string& payload, const std::string& what) {
+MapData DecodePayload(const std::string& payload, std::uint32_t version, const std::string& what) {
   MapData data;
   try {
     PayloadBuffer buffer(payload);
     std::istream in(&buffer);
     g_payload = &in;
     g_payload_size = payload.size();
+    g_reading_version = version;
     struct Reset {
-      ~Reset() { g_payload = nullptr; }
+      ~Reset() {
+        g_payload = nullptr;
+        g_reading_version = 0;
+      }
     } reset;
     cereal::PortableBinaryInputArchive ar(in);
     ar(data);
@@ -260,7 +270,7 @@ MapData Decode(const std::string& bytes, const std::string& what) {
   const Header h = ParseHeader(bytes, bytes.size(), what);
   std::string payload = bytes.substr(kHeaderBytes);
   if (Sha256Bytes(payload) != h.checksum) ChecksumMismatch(what);
-  return DecodePayload(payload, what);
+  return DecodePayload(payload, h.version, what);
 }
 
 void WriteMapFile(const std::filesystem::path& path, const MapData& data) {
@@ -282,7 +292,7 @@ MapData ReadMapFile(const std::filesystem::path& path) {
   // The checksum before the payload is held: a header that fits the file's size
   // says nothing of what follows it (gigabytes of zeros, say).
   if (RawFromHex(Sha256HexOfFile(file, kHeaderBytes, h.payload_bytes)) != h.checksum) ChecksumMismatch(path.string());
-  return DecodePayload(file.Read(kHeaderBytes, static_cast<std::size_t>(h.payload_bytes)), path.string());
+  return DecodePayload(file.Read(kHeaderBytes, static_cast<std::size_t>(h.payload_bytes)), h.version, path.string());
 }
 
 std::string Describe(const MapData& d) {

@@ -2,10 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+
+#include <Eigen/Eigenvalues>
 
 #include "sgslam/common/stats.h"
 #include "sgslam/map/keyframe.h"
 #include "sgslam/semantic/background_planes.h"
+#include "sgslam/semantic/object_sizes.h"
 
 namespace sgslam {
 
@@ -33,6 +37,8 @@ constexpr double kRing = 0.3;
 constexpr double kPlaneTolerance = 0.01;            // m
 constexpr double kPlaneToleranceQuadratic = 0.002;  // 1/m
 constexpr double kPlaneMaxShare = 0.8;
+// An observation with more of its samples on movers than this is a mover's.
+constexpr double kObjectMaxMovingShare = 0.5;
 
 double Volume(const Eigen::Vector3d& min, const Eigen::Vector3d& max) {
   const Eigen::Vector3d d = (max - min).cwiseMax(0.0);
@@ -185,7 +191,7 @@ std::vector<double> ObjectDepths(const std::vector<Detection>& detections, const
 std::optional<ObjectObservation> ObserveObject(const Detection& detection, const cv::Mat& depth_raw,
                                                double depth_factor, const PixelRays& rays,
                                                const SemanticConfig& config, const std::vector<OtherBox>& others,
-                                               const ObserveObjectOptions& options) {
+                                               const cv::Mat& movers, const ObserveObjectOptions& options) {
   if (depth_raw.empty() || depth_raw.type() != CV_16UC1 || depth_raw.size() != rays.size()) return std::nullopt;
   const cv::Rect image(0, 0, depth_raw.cols, depth_raw.rows);
   const cv::Rect2f& b = detection.box;
@@ -221,8 +227,16 @@ std::optional<ObjectObservation> ObserveObject(const Detection& detection, const
   std::vector<double> depths;
   SampleDepths(depth_raw, depth_factor, full, 2 * kObjectMaxPoints, config, pixels, depths);
   std::vector<Eigen::Vector3f> points;
+  int moving = 0;
+  const bool has_movers = !movers.empty() && movers.size() == depth_raw.size() && movers.type() == CV_8UC1;
   for (std::size_t i = 0; i < depths.size(); ++i) {
     if (std::abs(depths[i] - median) > band) continue;
+    // Movers never become map objects: their pixels are left out, and an object
+    // mostly on them (carried, or a mover the detector named otherwise) is none.
+    if (has_movers && movers.at<std::uint8_t>(pixels[i]) != 0) {
+      ++moving;
+      continue;
+    }
     // Where another box covers the pixel, it goes to the object whose depth is nearer.
     const bool theirs = std::any_of(overlapping.begin(), overlapping.end(), [&](const OtherBox& o) {
       return InBox(pixels[i], o.box) && std::abs(depths[i] - o.depth) < std::abs(depths[i] - median);
@@ -232,6 +246,7 @@ std::optional<ObjectObservation> ObserveObject(const Detection& detection, const
     const auto z = static_cast<float>(depths[i]);
     points.emplace_back(r[0] * z, r[1] * z, z);
   }
+  if (moving > kObjectMaxMovingShare * static_cast<double>(moving + points.size())) return std::nullopt;
   if (options.background_planes > 0) {
     RemoveBackgroundPlanes(b, full, depth_raw, depth_factor, rays, config, options.background_planes, median, points);
   }
@@ -247,7 +262,127 @@ std::optional<ObjectObservation> ObserveObject(const Detection& detection, const
   return o;
 }
 
-ObjectDatabase::Box ObjectDatabase::BoxOf(const std::vector<Eigen::Vector3d>& points) const {
+namespace {
+
+// Association voxels: a few centimetres, so that a keyboard's samples and the
+// desk's beneath it, or two monitors side by side, share few voxels.
+constexpr double kAssociationVoxel = 0.05;  // m
+// Two sets of samples of one class are one object when their boxes overlap
+// (kObjectMergeIou, or a centre inside the other's box) or this share of the
+// smaller one's voxels is in the other's.
+constexpr double kSameClassOverlap = 0.3;
+// Of different classes (the detector named one object twice: a monitor and a
+// laptop), they must overlap much more, and the smaller must cover a fair share of
+// the larger: a keyboard's samples lie on a table's box, not the other way round.
+constexpr double kOtherClassOverlap = 0.5;
+constexpr double kOtherClassCover = 0.2;
+// A keyframe's pose that moved less than this since an object's geometry was made
+// does not remake it.
+constexpr double kRefreshTranslation = 0.01;  // m
+constexpr double kRefreshRotation = 0.005;    // rad
+// Carving checks each sample against at most this many other views (evenly
+// chosen): an object seen from 60 keyframes costs no more than one seen from 12.
+constexpr int kCarveViews = 12;
+// The views' bookkeeping: samples of an object projected into a keyframe, how
+// many of them must land in the image for it to be in view, and how many with a
+// depth to judge it. A depth within kViewDepthTolerance (or its share of the
+// distance) of a sample, or nearer by up to the object's extent, is the object;
+// nearer still, something in front of it; further, the keyframe sees through
+// where it was.
+constexpr int kViewSamples = 64;
+constexpr double kViewInImage = 0.5;
+constexpr int kViewMinDepths = 8;
+constexpr double kViewDepthTolerance = 0.10;  // m
+constexpr double kViewDepthShare = 0.05;
+constexpr double kViewSeenShare = 0.5;     // of the depths: the object is there
+constexpr double kViewMissingShare = 0.6;  // of the depths: seen through
+constexpr double kViewMaxMoving = 0.1;     // of the samples in the image: on a mover
+
+std::int64_t VoxelKey(const Eigen::Vector3d& p) {
+  const auto c = [](double v) { return static_cast<std::int64_t>(std::floor(v / kAssociationVoxel)) & 0x1FFFFF; };
+  return (c(p.x()) << 42) | (c(p.y()) << 21) | c(p.z());
+}
+
+std::vector<std::int64_t> Voxels(const std::vector<Eigen::Vector3d>& points) {
+  std::vector<std::int64_t> v;
+  v.reserve(points.size());
+  for (const auto& p : points) v.push_back(VoxelKey(p));
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+  return v;
+}
+
+std::size_t Common(const std::vector<std::int64_t>& a, const std::vector<std::int64_t>& b) {
+  std::size_t n = 0;
+  for (std::size_t i = 0, j = 0; i < a.size() && j < b.size();) {
+    if (a[i] < b[j]) {
+      ++i;
+    } else if (b[j] < a[i]) {
+      ++j;
+    } else {
+      ++n, ++i, ++j;
+    }
+  }
+  return n;
+}
+
+struct Geometry {
+  const std::vector<std::int64_t>& voxels;
+  const Eigen::Vector3d& min;
+  const Eigen::Vector3d& max;
+};
+
+// How strongly two sets of samples are one object (the larger the better), or a
+// negative value when they are not: see the constants above.
+double Affinity(const Geometry& a, const Geometry& b, bool same_class) {
+  if (a.voxels.empty() || b.voxels.empty()) return -1;
+  const double common = static_cast<double>(Common(a.voxels, b.voxels));
+  const double small = common / static_cast<double>(std::min(a.voxels.size(), b.voxels.size()));
+  const double large = common / static_cast<double>(std::max(a.voxels.size(), b.voxels.size()));
+  if (!same_class) return small >= kOtherClassOverlap && large >= kOtherClassCover ? small + large : -1;
+  const Eigen::Vector3d lo = a.min.cwiseMax(b.min), hi = a.max.cwiseMin(b.max);
+  const double inter = Volume(lo, hi);
+  const double iou = inter / std::max(Volume(a.min, a.max) + Volume(b.min, b.max) - inter, 1e-12);
+  // A partial first view gives a small box: a centre inside the other box counts too.
+  const Eigen::Vector3d m = Eigen::Vector3d::Constant(kMergeMargin);
+  const bool nested = Inside((a.min + a.max) / 2, b.min - m, b.max + m) || Inside((b.min + b.max) / 2, a.min - m, a.max + m);
+  if (iou <= kObjectMergeIou && !nested && small < kSameClassOverlap) return -1;
+  return 1.0 + iou + (nested ? 1.0 : 0.0) + small;
+}
+
+bool Moved(const SE3& a, const SE3& b) {
+  const SE3 d = a.Inverse() * b;
+  return d.translation().norm() > kRefreshTranslation || so3::Log(d.quaternion()).norm() > kRefreshRotation;
+}
+
+// Extents along the samples' principal axes (trimmed like BoxOf), longest first:
+// a size that does not depend on how the map frame is turned.
+Eigen::Vector3d PrincipalExtents(const std::vector<Eigen::Vector3d>& points) {
+  if (points.size() < 3) return Eigen::Vector3d::Zero();
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& p : points) mean += p;
+  mean /= static_cast<double>(points.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const auto& p : points) cov += (p - mean) * (p - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(cov);
+  Eigen::Vector3d out;
+  for (int a = 0; a < 3; ++a) {
+    std::vector<double> c;
+    c.reserve(points.size());
+    for (const auto& p : points) c.push_back(solver.eigenvectors().col(a).dot(p - mean));
+    out[a] = Percentile(c, 1.0 - kExtentTrim) - Percentile(c, kExtentTrim);
+  }
+  std::sort(out.data(), out.data() + 3, std::greater<>());
+  return out;
+}
+
+double AngleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI;
+}
+
+}  // namespace
+
+ObjectDatabase::Box ObjectDatabase::BoxOf(const std::vector<Eigen::Vector3d>& points) {
   Box b{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
   if (points.empty()) return b;
   for (int a = 0; a < 3; ++a) {
@@ -260,45 +395,183 @@ ObjectDatabase::Box ObjectDatabase::BoxOf(const std::vector<Eigen::Vector3d>& po
   return b;
 }
 
-int ObjectDatabase::Add(ObjectObservation observation, const SE3& T_w_c) {
-  std::vector<Eigen::Vector3d> world;
-  world.reserve(observation.points_c.size());
-  for (const auto& p : observation.points_c) world.push_back(T_w_c * p.cast<double>());
-  const Box box = BoxOf(world);
-  const Eigen::Vector3d centre = (box.min + box.max) / 2;
+ObjectDatabase::ClassVote ObjectDatabase::WinningClass(const Object& o) {
+  std::vector<std::pair<std::pair<int, std::string>, double>> votes;
+  double total = 0;
+  for (const ObjectObservation& obs : o.observations) {
+    // Every detection counts, a weak one too (its score is its weight).
+    const double w = std::max(static_cast<double>(obs.score), 1e-3);
+    total += w;
+    const std::pair<int, std::string> key{obs.class_id, obs.class_name};
+    auto it = std::find_if(votes.begin(), votes.end(), [&](const auto& v) { return v.first == key; });
+    if (it == votes.end()) {
+      votes.push_back({key, w});
+    } else {
+      it->second += w;
+    }
+  }
+  ClassVote best;
+  double best_sum = -1;
+  for (const auto& [key, sum] : votes) {  // the first of equal sums: the one seen first
+    if (sum > best_sum) {
+      best = {key.first, key.second, 0};
+      best_sum = sum;
+    }
+  }
+  best.share = total > 0 ? best_sum / total : 0;
+  return best;
+}
+
+void ObjectDatabase::Rebuild(Object& o) const {
+  o.points_w.clear();
+  for (std::size_t i = 0; i < o.observations.size(); ++i) {
+    for (const auto& p : o.observations[i].points_c) o.points_w.push_back(o.T_w_c[i] * p.cast<double>());
+  }
+  o.voxels = Voxels(o.points_w);
+  o.box = o.observations.size() > 1 ? BoxOf(CarvedPoints(o, o.T_w_c)) : BoxOf(o.points_w);
+}
+
+ObjectDatabase::Object* ObjectDatabase::Associate(const std::vector<std::int64_t>& voxels, const Box& box,
+                                                  const ObjectObservation& observation) {
   Object* best = nullptr;
   double best_score = 0;
   for (Object& o : objects_) {
-    if (o.class_id != observation.class_id || o.class_name != observation.class_name) continue;
-    const Eigen::Vector3d lo = box.min.cwiseMax(o.box.min), hi = box.max.cwiseMin(o.box.max);
-    const double inter = Volume(lo, hi);
-    const double iou = inter / std::max(Volume(box.min, box.max) + Volume(o.box.min, o.box.max) - inter, 1e-12);
-    const Eigen::Vector3d o_centre = (o.box.min + o.box.max) / 2;
-    // A partial first view gives a small box: a centre inside the other box counts too.
-    const Eigen::Vector3d m = Eigen::Vector3d::Constant(kMergeMargin);
-    const bool nested = Inside(centre, o.box.min - m, o.box.max + m) || Inside(o_centre, box.min - m, box.max + m);
-    const double score = iou + (nested ? 1.0 : 0.0);
-    if ((iou > kObjectMergeIou || nested) && score > best_score) {
+    const ClassVote c = WinningClass(o);
+    const bool same = c.class_id == observation.class_id && c.class_name == observation.class_name;
+    const double score = Affinity({voxels, box.min, box.max}, {o.voxels, o.box.min, o.box.max}, same);
+    if (score > best_score) {
       best = &o;
       best_score = score;
     }
   }
-  std::size_t index = 0;
-  if (best == nullptr) {
-    objects_.push_back({next_id_++, observation.class_id, observation.class_name, {}, box});
-    index = objects_.size() - 1;
-  } else {
-    index = static_cast<std::size_t>(best - objects_.data());
+  return best;
+}
+
+int ObjectDatabase::Add(ObjectObservation observation, const SE3& T_w_c) {
+  std::vector<Eigen::Vector3d> world;
+  world.reserve(observation.points_c.size());
+  for (const auto& p : observation.points_c) world.push_back(T_w_c * p.cast<double>());
+  Object* o = Associate(Voxels(world), BoxOf(world), observation);
+  if (o == nullptr) {
+    o = &objects_.emplace_back();
+    o->id = next_id_++;
   }
-  Object& o = objects_[index];
   observation.T_w_c_added = T_w_c;
-  o.observations.push_back(std::move(observation));
-  if (o.observations.size() > 1) {
-    std::vector<SE3> poses;
-    for (const ObjectObservation& obs : o.observations) poses.push_back(obs.T_w_c_added);
-    o.box = BoxOf(CarvedPoints(o, poses));
+  o->observations.push_back(std::move(observation));
+  o->T_w_c.push_back(T_w_c);
+  Rebuild(*o);
+  return o->id;
+}
+
+void ObjectDatabase::Refresh(const KeyFramePoseFn& pose_of) {
+  for (Object& o : objects_) {
+    bool moved = false;
+    for (std::size_t i = 0; i < o.observations.size(); ++i) {
+      if (!o.observations[i].keyframe) continue;
+      const SE3 T = pose_of(*o.observations[i].keyframe);
+      if (Moved(T, o.T_w_c[i])) {
+        o.T_w_c[i] = T;
+        moved = true;
+      }
+    }
+    if (moved) Rebuild(o);
   }
-  return o.id;
+  MergeOverlapping();
+}
+
+void ObjectDatabase::MergeOverlapping() {
+  for (bool merged = true; merged;) {
+    merged = false;
+    for (std::size_t a = 0; a < objects_.size() && !merged; ++a) {
+      for (std::size_t b = a + 1; b < objects_.size() && !merged; ++b) {
+        Object& x = objects_[a];
+        Object& y = objects_[b];
+        const ClassVote cx = WinningClass(x), cy = WinningClass(y);
+        const bool same = cx.class_id == cy.class_id && cx.class_name == cy.class_name;
+        if (Affinity({x.voxels, x.box.min, x.box.max}, {y.voxels, y.box.min, y.box.max}, same) < 0) continue;
+        // The older object (smaller id) takes the other's views and counts.
+        for (std::size_t i = 0; i < y.observations.size(); ++i) {
+          x.observations.push_back(std::move(y.observations[i]));
+          x.T_w_c.push_back(y.T_w_c[i]);
+        }
+        x.views_expected = std::max(x.views_expected, y.views_expected);
+        x.views_seen = std::max(x.views_seen, y.views_seen);
+        x.missing = std::min(x.missing, y.missing);
+        Rebuild(x);
+        objects_.erase(objects_.begin() + static_cast<std::ptrdiff_t>(b));
+        merged = true;
+      }
+    }
+  }
+}
+
+int ObjectDatabase::CountViews(const std::vector<int>& joined, const SE3& T_w_c, const cv::Mat& depth_raw,
+                               double depth_factor, const cv::Mat& movers) {
+  if (depth_raw.empty() || depth_raw.type() != CV_16UC1 || !project_) return 0;
+  const SE3 T_c_w = T_w_c.Inverse();
+  const bool has_movers = !movers.empty() && movers.size() == depth_raw.size() && movers.type() == CV_8UC1;
+  int removed = 0;
+  for (auto it = objects_.begin(); it != objects_.end();) {
+    Object& o = *it;
+    if (std::find(joined.begin(), joined.end(), o.id) != joined.end()) {
+      ++o.views_expected;
+      ++o.views_seen;
+      o.missing = 0;
+      ++it;
+      continue;
+    }
+    int sampled = 0, in_image = 0, there = 0, through = 0, depths = 0, moving = 0;
+    // A depth nearer than a sample by up to the object's own extent is its front
+    // (the sample is on a side another view saw), not something in front of it.
+    const double own = (o.box.max - o.box.min).maxCoeff();
+    const std::size_t step = std::max<std::size_t>(1, o.points_w.size() / kViewSamples);
+    for (std::size_t k = 0; k < o.points_w.size(); k += step) {
+      ++sampled;
+      const Eigen::Vector3d p_c = T_c_w * o.points_w[k];
+      if (p_c.z() < config_.depth_min) continue;
+      const Eigen::Vector2d uv = project_(p_c);
+      const int u = static_cast<int>(std::lround(uv.x())), v = static_cast<int>(std::lround(uv.y()));
+      if (u < 0 || v < 0 || u >= depth_raw.cols || v >= depth_raw.rows) continue;
+      ++in_image;
+      if (has_movers && movers.at<std::uint8_t>(v, u) != 0) ++moving;
+      const std::uint16_t raw = depth_raw.at<std::uint16_t>(v, u);
+      if (raw == 0) continue;
+      ++depths;
+      const double d = raw / depth_factor - p_c.z();
+      const double tolerance = std::max(kViewDepthTolerance, kViewDepthShare * p_c.z());
+      if (d <= tolerance && d >= -own - tolerance) {
+        ++there;
+      } else if (d > tolerance) {
+        ++through;
+      }
+    }
+    // A mover over or beside it disturbs the view (and the detector): it says nothing.
+    const bool in_view = sampled > 0 && in_image >= kViewInImage * sampled && depths >= kViewMinDepths &&
+                         moving <= kViewMaxMoving * in_image;
+    if (in_view && there >= kViewSeenShare * depths) {
+      ++o.views_expected;  // there and in view, but not detected
+      o.missing = 0;
+    } else if (in_view && through >= kViewMissingShare * depths) {
+      ++o.missing;
+    }
+    if (o.missing >= kObjectMissingViews) {
+      it = objects_.erase(it);
+      ++removed;
+    } else {
+      ++it;
+    }
+  }
+  return removed;
+}
+
+void ObjectDatabase::Restore(std::vector<Object> objects, int next_id) {
+  objects_ = std::move(objects);
+  next_id_ = next_id;
+  for (Object& o : objects_) {
+    o.T_w_c.clear();
+    for (const ObjectObservation& obs : o.observations) o.T_w_c.push_back(obs.T_w_c_added);
+    Rebuild(o);
+  }
 }
 
 bool ObjectDatabase::Complete(const Object& o) {
@@ -309,6 +582,7 @@ std::vector<Eigen::Vector3d> ObjectDatabase::CarvedPoints(const Object& o, const
   const std::size_t n = o.observations.size();
   std::vector<SE3> T_c_w(n);
   for (std::size_t j = 0; j < n; ++j) T_c_w[j] = T_w_c[j].Inverse();
+  const std::size_t stride = std::max<std::size_t>(1, (n + kCarveViews - 1) / kCarveViews);
   std::vector<Eigen::Vector3d> all, kept;
   // Views cut by the image border shape the box only while no whole view exists:
   // their segmentation lacks the background ring on the cut side and drags in
@@ -320,7 +594,7 @@ std::vector<Eigen::Vector3d> ObjectDatabase::CarvedPoints(const Object& o, const
       const Eigen::Vector3d x = T_w_c[i] * p.cast<double>();
       all.push_back(x);
       int in = 0, out = 0;
-      for (std::size_t j = 0; j < n && project_; ++j) {
+      for (std::size_t j = i % stride; j < n && project_; j += stride) {
         if (j == i) continue;
         const Eigen::Vector3d p_c = T_c_w[j] * x;
         if (p_c.z() < config_.depth_min * 0.5) continue;
@@ -343,25 +617,53 @@ std::vector<ObjectEstimate> ObjectDatabase::Estimate(const KeyFramePoseFn& pose_
   for (const Object& o : objects_) {
     std::vector<SE3> T_w_c;
     double score = 0;
+    std::vector<const KeyFrame*> keyframes;
     for (const ObjectObservation& obs : o.observations) {
       T_w_c.push_back(obs.keyframe ? pose_of(*obs.keyframe) : obs.T_w_c_added);
       score += obs.score;
+      if (obs.keyframe) keyframes.push_back(obs.keyframe.get());
     }
-    std::vector<Eigen::Vector3d> points = CarvedPoints(o, T_w_c);
+    std::sort(keyframes.begin(), keyframes.end());
+    const auto distinct = static_cast<int>(std::unique(keyframes.begin(), keyframes.end()) - keyframes.begin());
+    const int unanchored = static_cast<int>(std::count_if(o.observations.begin(), o.observations.end(),
+                                                          [](const ObjectObservation& obs) { return !obs.keyframe; }));
+    std::vector<Eigen::Vector3d> points_w = CarvedPoints(o, T_w_c);
+    std::vector<Eigen::Vector3d> points = points_w;
     for (auto& p : points) p = T_out_w * p;
     const Box b = BoxOf(points);
+    const ClassVote c = WinningClass(o);
     ObjectEstimate e;
     e.id = o.id;
-    e.class_id = o.class_id;
-    e.class_name = o.class_name;
-    e.observations = static_cast<int>(o.observations.size());
+    e.class_id = c.class_id;
+    e.class_name = c.class_name;
+    e.class_share = c.share;
+    e.observations = distinct + unanchored;
+    e.views_expected = o.views_expected;
+    e.views_seen = o.views_seen;
+    e.points = static_cast<int>(points.size());
     const double mean_score = o.observations.empty() ? 0.0 : score / static_cast<double>(o.observations.size());
     e.confidence = mean_score * (1.0 - std::exp(-e.observations / 2.0));
     e.centroid = (b.min + b.max) / 2;
     e.size = b.max - b.min;
+    e.dimensions = PrincipalExtents(points_w);
     e.complete = Complete(o);
+    // The viewpoint change: the object's direction in the cameras (where in the
+    // image it was) and from the object to the cameras (the baseline).
+    const Eigen::Vector3d centre_w = (BoxOf(points_w).min + BoxOf(points_w).max) / 2;
+    for (std::size_t i = 0; i < o.observations.size(); ++i) {
+      const Eigen::Vector3d in_i = T_w_c[i].Inverse() * centre_w, from_i = T_w_c[i].translation() - centre_w;
+      for (std::size_t j = i + 1; j < o.observations.size(); ++j) {
+        const Eigen::Vector3d in_j = T_w_c[j].Inverse() * centre_w, from_j = T_w_c[j].translation() - centre_w;
+        e.spread_deg = std::max({e.spread_deg, AngleDeg(in_i, in_j), AngleDeg(from_i, from_j)});
+      }
+    }
     // An object never seen whole needs one view more: its views are weaker evidence.
-    e.exported = e.observations >= kObjectMinObservations + (e.complete ? 0 : 1);
+    const bool seen_enough = o.views_expected == 0 ||
+                             o.views_seen >= kObjectMinSeenShare * static_cast<double>(o.views_expected);
+    e.confirmed = e.observations >= kObjectMinObservations + (e.complete ? 0 : 1) &&
+                  e.spread_deg >= kObjectMinSpreadDeg && seen_enough;
+    e.plausible = PlausibleSize(e.class_name, e.dimensions, e.complete);
+    e.exported = e.confirmed && e.plausible;
     out.push_back(e);
   }
   return out;

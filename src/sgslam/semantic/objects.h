@@ -39,9 +39,6 @@ inline constexpr int kObjectMaxPoints = 400;
 // Depth samples an observation needs (in its inner box, and left at the end): fewer
 // is a sliver of the object, too little for a median and a MAD.
 inline constexpr int kObjectMinPoints = 30;
-// Objects seen fewer times are not exported (one more when every view was cut by
-// the image border): one view is too little evidence against a false detection.
-inline constexpr int kObjectMinObservations = 2;
 // Share of the box's width (in metres at the object's median depth) within which a
 // depth belongs to the object even beyond 3 MADs of the median: a flat front face
 // has a MAD of a centimetre and would cut off whatever lies behind it (a pot under
@@ -93,37 +90,76 @@ std::vector<double> ObjectDepths(const std::vector<Detection>& detections, const
                                  double depth_factor, const SemanticConfig& config);
 
 // The observation a detection gives, or none with too few valid depth samples.
-// `others`: the frame's other boxes (see OtherBox), none by default.
+// `others`: the frame's other boxes (see OtherBox), none by default. `movers`: the
+// keyframe's mask of moving pixels (CV_8U, non-zero: a mover; empty: none), whose
+// samples are left out; none when most of the box's samples are on movers.
 std::optional<ObjectObservation> ObserveObject(const Detection& detection, const cv::Mat& depth_raw,
                                                double depth_factor, const PixelRays& rays,
                                                const SemanticConfig& config, const std::vector<OtherBox>& others = {},
+                                               const cv::Mat& movers = cv::Mat(),
                                                const ObserveObjectOptions& options = {});
 
 struct ObjectEstimate {
   int id = 0;
   int class_id = -1;
-  std::string class_name;
-  double confidence = 0;  // mean score * (1 - exp(-observations / 2)): grows with consistent views
-  int observations = 0;
+  std::string class_name;   // the class with the largest summed detection score
+  double class_share = 1;   // that class's share of the summed scores of every class
+  double confidence = 0;    // mean score * (1 - exp(-observations / 2)): grows with consistent views
+  int observations = 0;     // keyframes whose detections joined the object
+  int views_expected = 0;   // keyframes it was in view of, unoccluded, since it was started
+  int views_seen = 0;       // of those, the ones whose detection joined it
+  int points = 0;           // samples its box was estimated from
+  double spread_deg = 0;    // viewpoint change over the keyframes that saw it
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // m, centre of the box, output frame
   Eigen::Vector3d size = Eigen::Vector3d::Zero();      // m, axis-aligned extent in the output frame
-  bool exported = false;  // seen at least kObjectMinObservations times (one more when not complete)
-  bool complete = true;   // seen whole at least once; false: every view was cut by the image border,
-                          // so centroid and size cover only the part in view
+  Eigen::Vector3d dimensions = Eigen::Vector3d::Zero();  // m, extents along its principal axes, longest first
+  bool confirmed = false;   // seen often, from far enough apart and often enough when in view (ConfirmedBy)
+  bool plausible = true;    // dimensions within its class's size range (object_sizes.h)
+  bool exported = false;    // listed in objects.json: confirmed and plausible
+  bool complete = true;     // seen whole at least once; false: every view was cut by the image border,
+                            // so centroid and size cover only the part in view
 };
 
 // T_w_c of a keyframe now (the caller resolves culled keyframes and locking).
 using KeyFramePoseFn = std::function<SE3(const KeyFrame&)>;
 
+// The evidence an object needs to be believed: observations from this many
+// keyframes (one more when every view was cut by the image border: it is weaker
+// evidence)...
+inline constexpr int kObjectMinObservations = 3;
+// ... whose views of it differ by at least this angle (the object's direction in
+// the camera, or the cameras' baseline seen from it: a detector's mistake repeats
+// in near-identical images, not from another place)...
+inline constexpr double kObjectMinSpreadDeg = 10.0;
+// ... and that saw it in at least this share of the keyframes it was in view of,
+// unoccluded (a false detection comes and goes; a real object is seen again).
+inline constexpr double kObjectMinSeenShare = 0.25;
+// An object is removed when this many keyframes in a row see through the place it
+// was (depth well behind its points), none of them detecting it: it was carried away.
+inline constexpr int kObjectMissingViews = 3;
+
 class ObjectDatabase {
  public:
-  // project / image: the camera, for carving (below).
+  // project / image: the camera, for carving and for the views' bookkeeping.
   ObjectDatabase(const SemanticConfig& config, ProjectFn project, cv::Size image)
       : config_(config), project_(std::move(project)), image_(image) {}
 
-  // Places the observation with the keyframe's pose T_w_c, merges or creates;
-  // returns the object's id.
+  // Moves every object's association geometry to the keyframes' current poses
+  // (bundle adjustment, loop corrections) and merges the objects that have come to
+  // overlap. Call before adding a keyframe's observations.
+  void Refresh(const KeyFramePoseFn& pose_of);
+  // Places the observation with the keyframe's pose T_w_c and associates it in 3-D
+  // (Associate); returns the object's id.
   int Add(ObjectObservation observation, const SE3& T_w_c);
+  // After a keyframe's observations: every object whose points fall in its image is
+  // checked against its depth (ViewOf). In view and unoccluded: expected, and seen
+  // when one of `joined` (the ids Add returned for this keyframe). Seen through:
+  // missing, and removed after kObjectMissingViews such keyframes in a row. An
+  // object partly on `movers` (the keyframe's moving pixels, CV_8U; may be empty)
+  // is not judged: a person over or beside it hides it from the detector. Returns
+  // how many objects were removed.
+  int CountViews(const std::vector<int>& joined, const SE3& T_w_c, const cv::Mat& depth_raw, double depth_factor,
+                 const cv::Mat& movers = cv::Mat());
   // Every object, re-estimated with the keyframes' current poses, in the frame
   // T_out_w * world (identity: the map frame).
   std::vector<ObjectEstimate> Estimate(const KeyFramePoseFn& pose_of, const SE3& T_out_w = SE3()) const;
@@ -132,24 +168,34 @@ class ObjectDatabase {
     Eigen::Vector3d min, max;
   };
   struct Object {
-    int id;
-    int class_id;
-    std::string class_name;
+    int id = 0;
     std::vector<ObjectObservation> observations;
-    Box box;  // world frame, poses at insertion: association only
+    int views_expected = 0, views_seen = 0;
+    int missing = 0;  // keyframes in a row that saw through it
+    // Association only (not saved): the observations' samples at the poses last
+    // refreshed, their voxels (kAssociationVoxel) and their percentile box.
+    std::vector<SE3> T_w_c;
+    std::vector<Eigen::Vector3d> points_w;
+    std::vector<std::int64_t> voxels;  // sorted, unique
+    Box box{Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
   };
   // What the database holds, for saving a map (mapfile/), and restoring it into an
-  // empty database.
+  // empty database (the association geometry is rebuilt from the observations).
   const std::vector<Object>& objects() const { return objects_; }
   int next_id() const { return next_id_; }
-  void Restore(std::vector<Object> objects, int next_id) {
-    objects_ = std::move(objects);
-    next_id_ = next_id;
-  }
+  void Restore(std::vector<Object> objects, int next_id);
+
+  // The class histogram's winner (summed scores) and its share.
+  struct ClassVote {
+    int class_id = -1;
+    std::string class_name;
+    double share = 0;
+  };
+  static ClassVote WinningClass(const Object& o);
 
  private:
   // Percentile extents (a trimmed share cut off at each end of each axis).
-  Box BoxOf(const std::vector<Eigen::Vector3d>& points) const;
+  static Box BoxOf(const std::vector<Eigen::Vector3d>& points);
   // The object's samples in the world frame (T_w_c: per observation) that the other views agree with: a
   // sample is kept when, among the other observations whose image it projects
   // into, at least half have it inside their box (a visual hull of the boxes: the
@@ -158,6 +204,12 @@ class ObjectDatabase {
   std::vector<Eigen::Vector3d> CarvedPoints(const Object& o, const std::vector<SE3>& T_w_c) const;
   // Seen whole (not cut by the image border) at least once.
   static bool Complete(const Object& o);
+  // The association geometry from the observations at o.T_w_c.
+  void Rebuild(Object& o) const;
+  // The best object for an observation's world samples and class, or null: see Associate in objects.cpp.
+  Object* Associate(const std::vector<std::int64_t>& voxels, const Box& box, const ObjectObservation& observation);
+  // Merges every pair of objects whose samples now overlap (MergeRule).
+  void MergeOverlapping();
 
   SemanticConfig config_;
   ProjectFn project_;

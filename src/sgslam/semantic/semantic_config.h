@@ -14,8 +14,10 @@
 //    kObjectMinScore;
 //  - octomap_builder.cpp: kOctoMapProbHit, kOctoMapProbMiss, kOctoMapClampMin/Max;
 //  - objects.h / .cpp: kObjectMinPoints, kObjectMinObservations,
+//    kObjectMinSpreadDeg, kObjectMinSeenShare, kObjectMissingViews,
 //    kObjectDepthBandWidth, kObjectBackgroundPlanes (ObserveObjectOptions),
-//    kObjectBoxShrink, kObjectMergeIou.
+//    kObjectBoxShrink, kObjectMergeIou and the association's constants;
+//  - object_sizes.cpp: each class's size range.
 #pragma once
 
 #include <string>
@@ -82,9 +84,14 @@ struct SemanticConfig {
   double octomap_resolution = 0.03;  // m, OctoMap (ColorOcTree) voxel side
   // A second, larger detector run on each keyframe in this thread (a Darknet file
   // stem in detector.model_dir; used only with the dnn backend; empty: off). Its
-  // dynamic-class boxes join the keyframe's own in the mask, nothing else: tracking
-  // keeps the fast model, and the map gets the people the fast one misses.
+  // dynamic-class boxes join the keyframe's own in the mask, and its boxes give the
+  // objects: tracking keeps the fast model, the map gets the people the fast one
+  // misses and the better-named objects.
   std::string keyframe_model = "yolo-fastest-1.1-xl";
+  // objects.json also lists the candidates, in a list of their own: objects not
+  // confirmed yet (too few views, too little viewpoint change, seen too rarely when
+  // in view) or of a size their class cannot have (docs/object-map.md).
+  bool object_candidates = false;
   SemanticFilters filters;  // the filters that keep movers out of the map
 
   template <class V>
@@ -96,7 +103,9 @@ struct SemanticConfig {
     v("depth_max", depth_max, "m, valid depth range");
     v("cloud_voxel", cloud_voxel, "m, dense cloud voxel side");
     v("octomap_resolution", octomap_resolution, "m, OctoMap voxel side");
-    v("keyframe_model", keyframe_model, "Darknet model run again on keyframes for the dynamic mask (dnn backend); empty: off");
+    v("keyframe_model", keyframe_model,
+      "Darknet model run again on keyframes for the dynamic mask and the objects (dnn backend); empty: off");
+    v("object_candidates", object_candidates, "objects.json also lists the unconfirmed or implausible objects");
     v("filters", filters, "the filters that keep movers out of the cloud and the OctoMap, each switchable");
   }
   void Validate(ConfigChecker& c) const;

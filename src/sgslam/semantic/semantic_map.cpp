@@ -101,13 +101,18 @@ SemanticMap::StageMs SemanticMap::Add(const SemanticInput& input, const std::vec
   }
   StageMs ms;
   Stopwatch stage;
-  const std::vector<Detection> movers = Movers(input);
+  const KeyFrameBoxes boxes = Detect(input);
+  const std::vector<Detection>& movers = boxes.movers;
   ms.detect = stage.ElapsedMs();
   stage.Restart();
   // surface: where the movers themselves were, for the seen-moving filter (a whole
   // box would mark the background behind a person as seen moving).
   cv::Mat surface;
-  const cv::Mat mask = DynamicMask(input, movers, carried, config_.filters.seen_moving ? &surface : nullptr);
+  cv::Mat mask = DynamicMask(input, movers, carried, config_.filters.seen_moving ? &surface : nullptr);
+  // The objects leave the movers out (their own pixels where known: the mask also
+  // holds the static surfaces around a rejected keypoint), not the image border.
+  const cv::Mat movers_mask = !surface.empty() ? surface : config_.filters.image_border ? mask.clone() : mask;
+  if (config_.filters.image_border) MaskImageBorder(mask);
   ms.mask = stage.ElapsedMs();
   stage.Restart();
   KeyFrameCloud cloud = MakeCloud(input, mask, surface);
@@ -120,7 +125,7 @@ SemanticMap::StageMs SemanticMap::Add(const SemanticInput& input, const std::vec
   clouds_.push_back(std::move(cloud));
   ray_points_.push_back(std::move(ray_points));
   stage.Restart();
-  ObserveObjects(input, T_w_c);
+  ObserveObjects(input, boxes.objects, T_w_c, movers_mask);
   ms.objects = stage.ElapsedMs();
   return ms;
 }
@@ -199,20 +204,28 @@ void SemanticMap::RebuildOctoMap() {
   for (std::size_t i = 0; i < clouds_.size(); ++i) octomap_.Insert(clouds_[i].points_c, ray_points_[i], T_w_c[i]);
 }
 
-std::vector<Detection> SemanticMap::Movers(const SemanticInput& input) {
-  // The keyframe's own boxes, plus the movers the larger keyframe model finds.
-  std::vector<Detection> movers = input.keyframe->features->detections;
-  if (!keyframe_detector_) return movers;
+SemanticMap::KeyFrameBoxes SemanticMap::Detect(const SemanticInput& input) {
+  // The keyframe's own boxes, plus what the larger keyframe model finds: its movers
+  // join the mask, its other boxes give the objects (it names them better).
+  KeyFrameBoxes boxes;
+  boxes.movers = input.keyframe->features->detections;
+  boxes.objects = input.keyframe->features->detections;
+  if (!keyframe_detector_) return boxes;
   try {
+    std::vector<Detection> objects;
     for (Detection& d : keyframe_detector_->Detect(input.bgr, input.keyframe->t)) {
-      if (classes_.is_dynamic(d.class_name)) movers.push_back(std::move(d));
+      if (classes_.is_dynamic(d.class_name)) {
+        boxes.movers.push_back(d);
+      }
+      objects.push_back(std::move(d));
     }
+    boxes.objects = std::move(objects);
   } catch (const std::exception& e) {
     // The map goes on with tracking's boxes; the thread must not die with it.
     spdlog::warn("semantic map: the keyframe detector failed ({}); going on without it", e.what());
     keyframe_detector_.reset();
   }
-  return movers;
+  return boxes;
 }
 
 cv::Mat SemanticMap::DynamicMask(const SemanticInput& input, const std::vector<Detection>& movers,
@@ -226,14 +239,15 @@ cv::Mat SemanticMap::DynamicMask(const SemanticInput& input, const std::vector<D
       DynamicPixelMask(input.depth, depth_factor, movers, classes_, f.keys, f.dynamic, options, f.unjudged, surface);
   MaskCarriedBoxes(carried, input.depth, depth_factor, kBoxWindowBand, mask);
   if (surface) MaskCarriedBoxes(carried, input.depth, depth_factor, kSeenMovingBand, *surface);
-  if (c.filters.image_border) {
-    // No keypoint (ORB's edge margin) and so no motion evidence reaches the border,
-    // and the detector misses the people it cuts: it stays out of the map.
-    const int b = std::min({kImageBorder, mask.cols / 2, mask.rows / 2});
-    mask.rowRange(0, b).setTo(255), mask.rowRange(mask.rows - b, mask.rows).setTo(255);
-    mask.colRange(0, b).setTo(255), mask.colRange(mask.cols - b, mask.cols).setTo(255);
-  }
   return mask;
+}
+
+void SemanticMap::MaskImageBorder(cv::Mat& mask) {
+  // No keypoint (ORB's edge margin) and so no motion evidence reaches the border,
+  // and the detector misses the people it cuts: it stays out of the map.
+  const int b = std::min({kImageBorder, mask.cols / 2, mask.rows / 2});
+  mask.rowRange(0, b).setTo(255), mask.rowRange(mask.rows - b, mask.rows).setTo(255);
+  mask.colRange(0, b).setTo(255), mask.colRange(mask.cols - b, mask.cols).setTo(255);
 }
 
 SemanticMap::KeyFrameCloud SemanticMap::MakeCloud(const SemanticInput& input, const cv::Mat& mask,
@@ -250,10 +264,24 @@ SemanticMap::KeyFrameCloud SemanticMap::MakeCloud(const SemanticInput& input, co
   return cloud;
 }
 
-void SemanticMap::ObserveObjects(const SemanticInput& input, const SE3& T_w_c) {
+void SemanticMap::ObserveObjects(const SemanticInput& input, const std::vector<Detection>& detections,
+                                 const SE3& T_w_c, const cv::Mat& movers_mask) {
   const SemanticConfig& c = config_;
-  const std::vector<Detection>& detections = input.keyframe->features->detections;
   const double depth_factor = camera_->config().depth_factor;
+  // The objects' views at the keyframes' current poses (bundle adjustment, loop
+  // corrections), read under the map's lock and used outside it.
+  {
+    std::unordered_map<const KeyFrame*, SE3> T;
+    {
+      std::shared_lock lock(map_.mutex());
+      for (const ObjectDatabase::Object& o : objects_.objects()) {
+        for (const ObjectObservation& obs : o.observations) {
+          if (obs.keyframe) T.emplace(obs.keyframe.get(), obs.keyframe->PlacedT_c_w().Inverse());
+        }
+      }
+    }
+    objects_.Refresh([&](const KeyFrame& kf) { return T.at(&kf); });
+  }
   // Sec. III-E: every detection except those of dynamic objects (people, dogs).
   const auto gives_object = [&](const Detection& d) {
     return !classes_.is_dynamic(d.class_name) && d.score >= kObjectMinScore;
@@ -263,6 +291,7 @@ void SemanticMap::ObserveObjects(const SemanticInput& input, const SE3& T_w_c) {
   const std::vector<double> object_depths = std::any_of(detections.begin(), detections.end(), gives_object)
                                                 ? ObjectDepths(detections, input.depth, depth_factor, c)
                                                 : std::vector<double>();
+  std::vector<int> joined;
   for (std::size_t i = 0; i < detections.size(); ++i) {
     const Detection& d = detections[i];
     if (!gives_object(d)) continue;
@@ -270,7 +299,7 @@ void SemanticMap::ObserveObjects(const SemanticInput& input, const SE3& T_w_c) {
     for (std::size_t j = 0; j < detections.size(); ++j) {
       if (j != i) others.push_back({detections[j].box, object_depths[j]});
     }
-    auto obs = ObserveObject(d, input.depth, depth_factor, rays_, c, others);
+    auto obs = ObserveObject(d, input.depth, depth_factor, rays_, c, others, movers_mask);
     if (!obs) continue;
     obs->keyframe = input.keyframe;
     const int b = kObjectBorder;
@@ -278,8 +307,9 @@ void SemanticMap::ObserveObjects(const SemanticInput& input, const SE3& T_w_c) {
     // object (one never seen whole is still in the room).
     obs->cut = d.box.x < b || d.box.y < b || d.box.x + d.box.width > input.depth.cols - b ||
                d.box.y + d.box.height > input.depth.rows - b;
-    objects_.Add(std::move(*obs), T_w_c);
+    joined.push_back(objects_.Add(std::move(*obs), T_w_c));
   }
+  objects_removed_ += static_cast<std::size_t>(objects_.CountViews(joined, T_w_c, input.depth, depth_factor, movers_mask));
 }
 
 void SemanticMap::FilterAndRebuild() {

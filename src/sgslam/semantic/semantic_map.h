@@ -128,6 +128,7 @@ class SemanticMap {
   std::size_t inconsistent_points() const { return inconsistent_; }
   std::size_t unsupported_points() const { return unsupported_; }
   std::size_t seen_moving_points() const { return seen_moving_; }
+  std::size_t objects_removed() const { return objects_removed_; }
   // T_out_w: the frame to express the objects in (boxes are axis-aligned in it).
   std::vector<ObjectEstimate> ExportObjects(const SE3& T_out_w = SE3()) const;
   OctoMapBuilder& octomap() { return octomap_; }
@@ -146,7 +147,11 @@ class SemanticMap {
   const Camera& camera() const { return *camera_; }
 
  private:
-  std::vector<Detection> Movers(const SemanticInput& input);
+  struct KeyFrameBoxes {
+    std::vector<Detection> movers;   // the keyframe's boxes and the keyframe model's movers
+    std::vector<Detection> objects;  // the keyframe model's boxes, else the keyframe's own
+  };
+  KeyFrameBoxes Detect(const SemanticInput& input);
   // surface: the movers' own pixels, for the seen-moving filter; null when that is off.
   cv::Mat DynamicMask(const SemanticInput& input, const std::vector<Detection>& movers,
                       const std::vector<CarriedBox>& carried, cv::Mat* surface) const;
@@ -157,7 +162,10 @@ class SemanticMap {
     cv::Mat moving_pooled;  // the same over the pixels the keyframe's dynamic mask marks
   };
   KeyFrameCloud MakeCloud(const SemanticInput& input, const cv::Mat& mask, const cv::Mat& surface) const;
-  void ObserveObjects(const SemanticInput& input, const SE3& T_w_c);
+  // movers_mask: the keyframe's moving pixels (no image border), left out of the objects.
+  void ObserveObjects(const SemanticInput& input, const std::vector<Detection>& detections, const SE3& T_w_c,
+                      const cv::Mat& movers_mask);
+  static void MaskImageBorder(cv::Mat& mask);
   // Drops the points other keyframes see through (filters.see_through) or masked as
   // a mover (filters.seen_moving) and those fewer than kMinViewSupport keyframes saw
   // (filters.view_support), and rebuilds the OctoMap from the rest with the current
@@ -184,6 +192,7 @@ class SemanticMap {
   ObjectDatabase objects_;
   bool filtered_ = false;
   std::size_t inconsistent_ = 0, unsupported_ = 0, seen_moving_ = 0;
+  std::size_t objects_removed_ = 0;  // seen missing where they were (ObjectDatabase::CountViews)
 };
 
 }  // namespace sgslam

@@ -100,6 +100,7 @@ class SemanticMapper {
   // After Finish(), under the map's shared lock (semantic_map.h).
   void ExportCloud(std::vector<Eigen::Vector3d>& points, std::vector<Rgb>& colours);
   std::size_t inconsistent_points() const { return map_.inconsistent_points(); }
+  std::size_t objects_removed() const { return map_.objects_removed(); }
   std::size_t unsupported_points() const { return map_.unsupported_points(); }
   std::size_t seen_moving_points() const { return map_.seen_moving_points(); }
   std::vector<ObjectEstimate> ExportObjects(const SE3& T_out_w = SE3()) const { return map_.ExportObjects(T_out_w); }

@@ -433,6 +433,12 @@ void SlamSystem::ExportSemantic(std::vector<Eigen::Vector3d>& cloud, std::vector
   objects = semantic_->ExportObjects(T_out_map);
 }
 
+std::vector<ObjectEstimate> SlamSystem::ExportObjects(const SE3& T_out_map) const {
+  if (!semantic_) return {};
+  std::shared_lock lock(map_.mutex());
+  return semantic_->ExportObjects(T_out_map);
+}
+
 void SlamSystem::EnableSnapshots() {
   snapshots_ = true;
   if (semantic_) semantic_->EnablePublishing();

@@ -126,6 +126,8 @@ class SlamSystem {
   const SemanticMapper* semantic() const { return semantic_.get(); }
   SemanticMapper* semantic() { return semantic_.get(); }
   // T_out_map: the frame objects are expressed (and boxed) in; cloud: map frame.
+  // The objects alone, in the frame T_out_map * map (the semantic map's; none without it).
+  std::vector<ObjectEstimate> ExportObjects(const SE3& T_out_map = SE3()) const;
   void ExportSemantic(std::vector<Eigen::Vector3d>& cloud, std::vector<Rgb>& colours,
                       std::vector<ObjectEstimate>& objects, const SE3& T_out_map = SE3()) const;
   // Snapshots for observers (a viewer, a ROS node; system/snapshot.h). Enable before
