@@ -54,10 +54,8 @@ mf::SemanticData Semantic() {
   s.clouds.push_back(c);
   mf::ObjectData o;
   o.id = 1;
-  o.class_id = 56;
-  o.class_name = "chair";
-  o.box_min = {-0.2, -0.2, 1.0};
-  o.box_max = {0.2, 0.3, 1.6};
+  o.views_expected = 2;
+  o.views_seen = 1;
   o.observations.push_back({0, 56, "chair", 0.8f, {200, 150, 80, 90}, {}, {{0.0f, 0.1f, 1.2f}}, false});
   s.objects.push_back(o);
   s.next_object_id = 2;
@@ -140,9 +138,11 @@ int main(int argc, char** argv) {
   sgslam::WriteFileAtomically(map / "valid-small.map", small);
   sgslam::WriteFileAtomically(map / "valid-minimal.map", mf::Encode(MinimalMap()));
   sgslam::WriteFileAtomically(map / "truncated.map", small.substr(0, small.size() / 2));
+  // A version this sgslam does not read yet. (valid-version-1.map, the small map as
+  // format version 1 wrote it, is kept as it is: version 1 files must still load.)
   std::string other_version = small;
-  other_version[8] = 2;
-  sgslam::WriteFileAtomically(map / "version-2.map", other_version);
+  other_version[8] = static_cast<char>(mf::kFormatVersion + 1);
+  sgslam::WriteFileAtomically(map / ("version-" + std::to_string(mf::kFormatVersion + 1) + ".map"), other_version);
   const std::string k3l2 = SmallVocabulary(3, 2).Serialize();
   sgslam::WriteFileAtomically(vocabulary / "valid-k3-l2.vocab", k3l2);
   sgslam::WriteFileAtomically(vocabulary / "valid-k2-l3.vocab", SmallVocabulary(2, 3).Serialize());

@@ -180,6 +180,16 @@ TEST(MapFile, InconsistentContentIsRefusedEvenWithAGoodChecksum) {
   d = good;
   for (KeyFrameData& k : d.keyframes) k.culled = true, k.keys.clear();
   EXPECT_NE(DecodeError(Encode(d)).find("no keyframe"), std::string::npos);
+  ASSERT_FALSE(good.semantic.objects.empty());
+  d = good;
+  d.semantic.objects.front().views_seen = d.semantic.objects.front().views_expected + 1;  // seen more than in view
+  EXPECT_NE(DecodeError(Encode(d)).find("object"), std::string::npos);
+  d = good;
+  d.semantic.objects.front().observations.clear();
+  EXPECT_NE(DecodeError(Encode(d)).find("object"), std::string::npos);
+  d = good;
+  d.semantic.objects.front().observations.front().score = std::nanf("");
+  EXPECT_NE(DecodeError(Encode(d)).find("object"), std::string::npos);
 }
 
 // A map file around `payload`, with its size and checksum (the checksum is no

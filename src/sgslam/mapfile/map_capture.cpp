@@ -115,9 +115,7 @@ ImageData ToData(const cv::Mat& image) {
 }
 
 ObjectData ToData(const ObjectDatabase::Object& o) {
-  const ObjectDatabase::ClassVote c = ObjectDatabase::WinningClass(o);
-  ObjectData d{o.id, c.class_id, c.class_name, {}, {o.box.min.x(), o.box.min.y(), o.box.min.z()},
-               {o.box.max.x(), o.box.max.y(), o.box.max.z()}, o.views_expected, o.views_seen, o.missing};
+  ObjectData d{o.id, {}, o.views_expected, o.views_seen, o.missing};
   for (const ObjectObservation& obs : o.observations) {
     ObjectObservationData od;
     od.keyframe = obs.keyframe ? obs.keyframe->id : kNoId;

@@ -141,8 +141,7 @@ void CheckSemantic(const MapData& d, const std::string& what, const std::map<std
     }
   }
   for (const ObjectData& o : d.semantic.objects) {
-    bool ok = AllFinite(o.box_min) && AllFinite(o.box_max) && !o.observations.empty() && o.views_seen >= 0 &&
-              o.views_expected >= o.views_seen && o.missing >= 0;
+    bool ok = !o.observations.empty() && o.views_seen >= 0 && o.views_expected >= o.views_seen && o.missing >= 0;
     for (const ObjectObservationData& obs : o.observations) {
       ok = ok && (obs.keyframe == kNoId || kfs.count(obs.keyframe)) && Finite(obs.T_w_c_added) && AllFinite(obs.box) &&
            std::isfinite(obs.score) &&

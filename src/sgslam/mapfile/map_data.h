@@ -112,11 +112,9 @@ struct ObjectObservationData {  // semantic/objects.h
   bool operator==(const ObjectObservationData&) const = default;
 };
 
-struct ObjectData {
-  std::int32_t id = 0, class_id = -1;
-  std::string class_name;
+struct ObjectData {  // its class and box follow from the observations (ObjectDatabase::Restore)
+  std::int32_t id = 0;
   std::vector<ObjectObservationData> observations;
-  std::array<double, 3> box_min{}, box_max{};
   std::int32_t views_expected = 0, views_seen = 0, missing = 0;  // since format version 2
   bool operator==(const ObjectData&) const = default;
 };

@@ -29,7 +29,7 @@ namespace {
 thread_local const std::istream* g_payload = nullptr;
 thread_local std::size_t g_payload_size = 0;
 // The format version of the file being decoded (0: encoding): version 1 files are
-// read too, their objects without the views' counts.
+// read too (their objects' class and box are left: Restore derives them).
 thread_local std::uint32_t g_reading_version = 0;
 
 // Throws when n elements of `bytes` bytes each (in memory) cannot come from the
@@ -139,8 +139,16 @@ void serialize(A& ar, ObjectObservationData& o) {
 }
 template <class A>
 void serialize(A& ar, ObjectData& o) {
-  ar(o.id, o.class_id, o.class_name, o.observations, o.box_min, o.box_max);
-  if (g_reading_version == 0 || g_reading_version >= 2) ar(o.views_expected, o.views_seen, o.missing);
+  if (g_reading_version == 1) {
+    // Version 1 kept the winning class and the box, which follow from the
+    // observations, and no views' counts.
+    std::int32_t class_id = -1;
+    std::string class_name;
+    std::array<double, 3> box_min{}, box_max{};
+    ar(o.id, class_id, class_name, o.observations, box_min, box_max);
+    return;
+  }
+  ar(o.id, o.observations, o.views_expected, o.views_seen, o.missing);
 }
 template <class A>
 void serialize(A& ar, SemanticData& s) {

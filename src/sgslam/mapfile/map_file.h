@@ -22,7 +22,8 @@
 
 namespace sgslam::mapfile {
 
-// 2: objects keep the views' counts (ObjectData::views_expected, views_seen, missing).
+// 2: objects keep the views' counts (ObjectData::views_expected, views_seen, missing)
+// and no longer their class and box (derived from their observations).
 inline constexpr std::uint32_t kFormatVersion = 2;
 inline constexpr std::uint32_t kOldestFormatVersion = 1;  // still read
 inline constexpr std::string_view kFileMagic{"SGMAP\0\0\0", 8};  // the first bytes of every map file
