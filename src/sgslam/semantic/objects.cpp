@@ -649,12 +649,16 @@ std::vector<ObjectEstimate> ObjectDatabase::Estimate(const KeyFramePoseFn& pose_
     e.complete = Complete(o);
     // The viewpoint change: the object's direction in the cameras (where in the
     // image it was) and from the object to the cameras (the baseline).
-    const Eigen::Vector3d centre_w = (BoxOf(points_w).min + BoxOf(points_w).max) / 2;
-    for (std::size_t i = 0; i < o.observations.size(); ++i) {
-      const Eigen::Vector3d in_i = T_w_c[i].Inverse() * centre_w, from_i = T_w_c[i].translation() - centre_w;
-      for (std::size_t j = i + 1; j < o.observations.size(); ++j) {
-        const Eigen::Vector3d in_j = T_w_c[j].Inverse() * centre_w, from_j = T_w_c[j].translation() - centre_w;
-        e.spread_deg = std::max({e.spread_deg, AngleDeg(in_i, in_j), AngleDeg(from_i, from_j)});
+    const Box box_w = BoxOf(points_w);
+    const Eigen::Vector3d centre_w = (box_w.min + box_w.max) / 2;
+    std::vector<Eigen::Vector3d> in_camera, from_object;
+    for (const SE3& T : T_w_c) {
+      in_camera.push_back(T.Inverse() * centre_w);
+      from_object.push_back(T.translation() - centre_w);
+    }
+    for (std::size_t i = 0; i < T_w_c.size(); ++i) {
+      for (std::size_t j = i + 1; j < T_w_c.size(); ++j) {
+        e.spread_deg = std::max({e.spread_deg, AngleDeg(in_camera[i], in_camera[j]), AngleDeg(from_object[i], from_object[j])});
       }
     }
     // An object never seen whole needs one view more: its views are weaker evidence.

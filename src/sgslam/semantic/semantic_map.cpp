@@ -147,13 +147,9 @@ SemanticMap::Snapshot SemanticMap::Latest() const {
   if (clouds_.empty()) return s;
   s.keyframe = clouds_.back().keyframe;
   s.cloud = std::make_shared<const std::vector<ColoredPoint>>(clouds_.back().points_c);
-  // The poses under the map's lock, the estimate (which carves every object with
-  // every view) outside it: local mapping must not wait for this low-priority thread.
-  std::unordered_map<const KeyFrame*, SE3> T_w_c;
-  {
-    std::shared_lock lock(map_.mutex());
-    for (const KeyFrameCloud& k : clouds_) T_w_c.emplace(k.keyframe.get(), k.keyframe->PlacedT_c_w().Inverse());
-  }
+  // The estimate (which carves every object with every view) outside the map's
+  // lock: local mapping must not wait for this low-priority thread.
+  const std::unordered_map<const KeyFrame*, SE3> T_w_c = KeyFramePoses();
   s.objects = objects_.Estimate([&](const KeyFrame& kf) { return T_w_c.at(&kf); });
   s.cells = std::make_shared<const std::vector<Eigen::Vector4f>>(octomap_.OccupiedCells());
   return s;
@@ -194,6 +190,13 @@ SemanticState SemanticMap::State() const {
   return state;
 }
 
+std::unordered_map<const KeyFrame*, SE3> SemanticMap::KeyFramePoses() const {
+  std::unordered_map<const KeyFrame*, SE3> T_w_c;
+  std::shared_lock lock(map_.mutex());
+  for (const KeyFrameCloud& k : clouds_) T_w_c.emplace(k.keyframe.get(), k.keyframe->PlacedT_c_w().Inverse());
+  return T_w_c;
+}
+
 void SemanticMap::RebuildOctoMap() {
   std::vector<SE3> T_w_c;
   {
@@ -209,22 +212,20 @@ SemanticMap::KeyFrameBoxes SemanticMap::Detect(const SemanticInput& input) {
   // join the mask, its other boxes give the objects (it names them better).
   KeyFrameBoxes boxes;
   boxes.movers = input.keyframe->features->detections;
-  boxes.objects = input.keyframe->features->detections;
-  if (!keyframe_detector_) return boxes;
-  try {
-    std::vector<Detection> objects;
-    for (Detection& d : keyframe_detector_->Detect(input.bgr, input.keyframe->t)) {
-      if (classes_.is_dynamic(d.class_name)) {
-        boxes.movers.push_back(d);
+  if (keyframe_detector_) {
+    try {
+      boxes.objects = keyframe_detector_->Detect(input.bgr, input.keyframe->t);
+      for (const Detection& d : boxes.objects) {
+        if (classes_.is_dynamic(d.class_name)) boxes.movers.push_back(d);
       }
-      objects.push_back(std::move(d));
+      return boxes;
+    } catch (const std::exception& e) {
+      // The map goes on with tracking's boxes; the thread must not die with it.
+      spdlog::warn("semantic map: the keyframe detector failed ({}); going on without it", e.what());
+      keyframe_detector_.reset();
     }
-    boxes.objects = std::move(objects);
-  } catch (const std::exception& e) {
-    // The map goes on with tracking's boxes; the thread must not die with it.
-    spdlog::warn("semantic map: the keyframe detector failed ({}); going on without it", e.what());
-    keyframe_detector_.reset();
   }
+  boxes.objects = input.keyframe->features->detections;
   return boxes;
 }
 
@@ -269,19 +270,9 @@ void SemanticMap::ObserveObjects(const SemanticInput& input, const std::vector<D
   const SemanticConfig& c = config_;
   const double depth_factor = camera_->config().depth_factor;
   // The objects' views at the keyframes' current poses (bundle adjustment, loop
-  // corrections), read under the map's lock and used outside it.
-  {
-    std::unordered_map<const KeyFrame*, SE3> T;
-    {
-      std::shared_lock lock(map_.mutex());
-      for (const ObjectDatabase::Object& o : objects_.objects()) {
-        for (const ObjectObservation& obs : o.observations) {
-          if (obs.keyframe) T.emplace(obs.keyframe.get(), obs.keyframe->PlacedT_c_w().Inverse());
-        }
-      }
-    }
-    objects_.Refresh([&](const KeyFrame& kf) { return T.at(&kf); });
-  }
+  // corrections).
+  const std::unordered_map<const KeyFrame*, SE3> T = KeyFramePoses();
+  objects_.Refresh([&](const KeyFrame& kf) { return T.at(&kf); });
   // Sec. III-E: every detection except those of dynamic objects (people, dogs).
   const auto gives_object = [&](const Detection& d) {
     return !classes_.is_dynamic(d.class_name) && d.score >= kObjectMinScore;

@@ -17,6 +17,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -166,6 +167,9 @@ class SemanticMap {
   void ObserveObjects(const SemanticInput& input, const std::vector<Detection>& detections, const SE3& T_w_c,
                       const cv::Mat& movers_mask);
   static void MaskImageBorder(cv::Mat& mask);
+  // T_w_c of every keyframe with a cloud (those of the objects' views too), read
+  // under the map's shared lock, to be used outside it.
+  std::unordered_map<const KeyFrame*, SE3> KeyFramePoses() const;
   // Drops the points other keyframes see through (filters.see_through) or masked as
   // a mover (filters.seen_moving) and those fewer than kMinViewSupport keyframes saw
   // (filters.view_support), and rebuilds the OctoMap from the rest with the current
