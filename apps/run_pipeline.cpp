@@ -247,19 +247,26 @@ FrameLoop RunFrames(const RunOptions& o, const TumDataset& dataset, const Config
   return loop;
 }
 
-// The ATE against the folder's groundtruth.txt, when it has one, into s and stats.
-void AddAte(const TumDataset& dataset, const Trajectory& trajectory, RunSummary& s, nlohmann::json& stats) {
+// The ATE against the folder's groundtruth.txt, when it has one (and the run 3
+// poses); none, warned, when it cannot be computed.
+std::optional<eval::AteResult> RunAte(const TumDataset& dataset, const Trajectory& trajectory) {
   const auto gt_path = dataset.groundtruth_path();
-  if (!gt_path || trajectory.size() < 3) return;
+  if (!gt_path || trajectory.size() < 3) return std::nullopt;
   try {
-    const auto ate = eval::ComputeAte(ReadTumTrajectory(*gt_path), trajectory, FromSeconds(0.02));
-    s.ate_rmse = ate.stats.rmse;
-    s.ate_pairs = ate.stats.count;
-    stats["ate"] = {{"rmse", ate.stats.rmse}, {"mean", ate.stats.mean}, {"median", ate.stats.median},
-                    {"pairs", ate.stats.count}};
+    return eval::ComputeAte(ReadTumTrajectory(*gt_path), trajectory, FromSeconds(0.02));
   } catch (const Error& e) {
     spdlog::warn("no ATE: {}", e.what());
+    return std::nullopt;
   }
+}
+
+// The ATE into s and stats.
+void AddAte(const std::optional<eval::AteResult>& ate, RunSummary& s, nlohmann::json& stats) {
+  if (!ate) return;
+  s.ate_rmse = ate->stats.rmse;
+  s.ate_pairs = ate->stats.count;
+  stats["ate"] = {{"rmse", ate->stats.rmse}, {"mean", ate->stats.mean}, {"median", ate->stats.median},
+                  {"pairs", ate->stats.count}};
 }
 
 // The mover tracks against the sequence's true movers (eval/track_score.h), into
@@ -284,8 +291,8 @@ void AddTrackTruth(const TumDataset& dataset, const CameraConfig& camera, const 
 // stats.json (but its semantic section and how the run ended: WriteStatsJson), and
 // the summary's counts into s.
 nlohmann::json RunStats(const RunOptions& o, const Config& config, const TumDataset& dataset, const FrameLoop& loop,
-                        const SlamSystem& system, const RunMaps& maps, const TruthScorer& truth, double seconds,
-                        RunSummary& s) {
+                        const SlamSystem& system, const RunMaps& maps, const TruthScorer& truth,
+                        const std::optional<eval::AteResult>& ate, double seconds, RunSummary& s) {
   const RunTotals totals = TotalsOf(loop.reports, system, maps.map_points);
   s.frames = totals.frames;
   s.tracked = totals.tracked;
@@ -303,7 +310,7 @@ nlohmann::json RunStats(const RunOptions& o, const Config& config, const TumData
   stats["fps"] = s.fps;
   if (nlohmann::json t = truth.RejectionJson(); !t.is_null()) stats["dynamic"]["truth"] = t;
   const Trajectory& trajectory = maps.trajectory;
-  AddAte(dataset, trajectory, s, stats);
+  AddAte(ate, s, stats);
   if (o.realtime) {
     stats["live"] = LiveJson(loop.dropped, loop.latency_ms);
     stats["live"]["every_frame"] = o.every_frame;
@@ -334,24 +341,23 @@ void AddSemanticTruth(const TruthScorer& truth, const SemanticMapper& sem, const
 }
 
 // The object map against the sequence's true objects (--object-truth, or the
-// dataset's objects_gt.json), in the ground truth's world by the trajectory's ATE
-// alignment, into semantic["objects_truth"]; a list or a ground truth that cannot
-// be read costs the scores (warned), not stats.json. An --object-truth the run
-// cannot score (no ground truth, no trajectory) is said.
+// dataset's objects_gt.json), in the ground truth's world by the run's ATE
+// alignment, into semantic["objects_truth"]; a list that cannot be read costs the
+// scores (warned), not stats.json. An --object-truth the run cannot score (no ATE)
+// is said.
 void AddObjectTruth(const RunOptions& o, const TumDataset& dataset, const SlamSystem& system,
-                    const Trajectory& trajectory, nlohmann::json& semantic) {
+                    const std::optional<eval::AteResult>& ate, nlohmann::json& semantic) {
   fs::path list = o.object_truth;
   if (list.empty() && fs::is_regular_file(dataset.dir() / "objects_gt.json")) list = dataset.dir() / "objects_gt.json";
   if (list.empty()) return;
-  const auto gt_path = dataset.groundtruth_path();
-  if (!gt_path || trajectory.size() < 3) {
-    spdlog::warn("--object-truth {}: not scored, the run needs ground truth and 3 poses", list.string());
+  if (!ate) {
+    spdlog::warn("--object-truth {}: not scored, the run has no ATE alignment (ground truth and 3 poses)",
+                 list.string());
     return;
   }
   try {
     const auto truth = eval::LoadObjectTruth(list);
-    const auto ate = eval::ComputeAte(ReadTumTrajectory(*gt_path), trajectory, FromSeconds(0.02));
-    std::vector<ObjectEstimate> objects = system.ExportObjects(ate.T_gt_est);
+    std::vector<ObjectEstimate> objects = system.ExportObjects(ate->T_gt_est);
     std::erase_if(objects, [](const ObjectEstimate& e) { return !e.exported; });
     semantic["objects_truth"] = eval::ToJson(eval::ScoreObjects(truth, objects));
     semantic["objects_truth"]["list"] = list.string();
@@ -361,15 +367,12 @@ void AddObjectTruth(const RunOptions& o, const TumDataset& dataset, const SlamSy
 }
 
 // Every output but stats.json, each on its own (run_outputs.h), and the semantic
-// map's scores against the dataset's ground-truth masks and true objects.
+// map's scores against the dataset's ground-truth masks.
 RunMaps WriteOutputs(const RunOptions& o, const Config& config, const TumDataset& dataset, FrameLoop& loop,
                      SlamSystem& system, const TruthScorer& truth, bool has_detector, const fs::path& out,
                      FailedOutputs& failed) {
   RunMaps maps = WriteSystemOutputs(out, system, loop.reports, has_detector, o.print_objects, failed);
-  if (const SemanticMapper* sem = system.semantic()) {
-    AddSemanticTruth(truth, *sem, dataset, config.camera, maps.semantic);
-    AddObjectTruth(o, dataset, system, maps.trajectory, maps.semantic);
-  }
+  if (const SemanticMapper* sem = system.semantic()) AddSemanticTruth(truth, *sem, dataset, config.camera, maps.semantic);
   return maps;
 }
 
@@ -459,8 +462,10 @@ RunSummary RunSequence(const RunOptions& o) {
       if (const std::string error = recorder->Finish(); !error.empty()) throw InputError(error);
     });
   }
-  const RunMaps maps = WriteOutputs(o, config, dataset, loop, system, truth, has_detector, s.out, failed);
-  const nlohmann::json stats = RunStats(o, config, dataset, loop, system, maps, truth, seconds, s);
+  RunMaps maps = WriteOutputs(o, config, dataset, loop, system, truth, has_detector, s.out, failed);
+  const std::optional<eval::AteResult> ate = RunAte(dataset, maps.trajectory);
+  if (system.semantic()) AddObjectTruth(o, dataset, system, ate, maps.semantic);
+  const nlohmann::json stats = RunStats(o, config, dataset, loop, system, maps, truth, ate, seconds, s);
   s.stopped_by = loop.stopped_by;
   if (s.frames > 0 && s.tracked == 0) {
     spdlog::warn("no frame was tracked: the map never started, so trajectory.txt and the maps are empty");
