@@ -2,19 +2,26 @@
 // detection of a static class in a keyframe, the box is shrunk towards its centre
 // (kObjectBoxShrink), depths far from the median (in MADs, at least
 // kObjectDepthBandWidth of the box's width) are dropped, background planes fitted
-// around the box are removed inside it (kObjectBackgroundPlanes), pixels where another box of the frame overlaps and whose depth is nearer
-// that box's object go to it (occlusion: the paper does not say), 3-D outliers are
-// removed, and the samples are kept in the keyframe's camera frame. The database
-// merges an observation into an object of the same class whose box overlaps it (3-D
-// IoU, or one centroid inside the other's box grown by a margin), else starts a new
-// object. A box cut by the image edge is a partial view: it may start an object (a
-// sofa next to the camera may never be seen whole), but its samples shape the
-// object only until a whole view comes, and an object seen only cut is exported
-// with complete = false, from one view more than a whole one (kObjectMinObservations). Each object keeps
+// around the box are removed inside it (kObjectBackgroundPlanes), pixels where
+// another box of the frame overlaps and whose depth is nearer that box's object go
+// to it (occlusion: the paper does not say), movers' pixels are left out, 3-D
+// outliers are removed, and the samples are kept in the keyframe's camera frame.
+// The database associates an observation in 3-D whatever its label (shared voxels
+// and box overlap; another class needs much more overlap than the object's own),
+// keeps every observation's class and score for a vote (WinningClass), and merges
+// objects that come to overlap when the keyframes' poses change (Refresh). A box
+// cut by the image edge is a partial view: it may start an object (a sofa next to
+// the camera may never be seen whole), but its samples shape the object only until
+// a whole view comes, and an object seen only cut is marked complete = false and
+// needs one view more to be confirmed. An object is believed (confirmed) from the
+// evidence of its views: kObjectMinObservations keyframes, kObjectMinSpreadDeg of
+// viewpoint change, detected in kObjectMinSeenShare of the keyframes it was in view
+// of (CountViews); it is removed once seen missing where it was. Each object keeps
 // its observations anchored to their keyframes: its centroid and size are
 // recomputed from them with the keyframes' current poses (robust: 1st-99th
 // percentile extents of the samples that the other views' boxes agree with, see
 // CarvedPoints), so bundle adjustment moves objects with the map.
+// docs/object-map.md describes the whole.
 //
 // Threading: not thread-safe; the semantic mapping thread owns the database.
 #pragma once
