@@ -139,6 +139,11 @@ TEST(RunCommand, DetectionsOfTheRunAreSavedForReplay) {
   std::string header;
   std::getline(csv, header);
   EXPECT_NE(header.find(",detections,carried,"), std::string::npos) << header;
+  // The sequence's objects_gt.json (its walkers have no one place) scores the object map.
+  std::ifstream stats_file(tmp / "out" / "stats.json");
+  const auto stats = nlohmann::json::parse(stats_file);
+  EXPECT_TRUE(stats["semantic"].contains("objects_truth")) << r.output;
+  EXPECT_EQ(r.output.find("no scores of the object map"), std::string::npos) << r.output;
   // Without a detector there is nothing to save.
   const auto none = RunSgslam(
       {"run", "--dataset", (tmp / "walk").string(), "--out", (tmp / "out2").string(), "--mode", "none", "--sequential"});

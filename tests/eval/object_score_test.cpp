@@ -62,13 +62,15 @@ TEST(ObjectScore, ReadsBothListsAndNamesWhatIsWrong) {
   const auto ok = LoadObjectTruth(write(
       R"({"objects": [{"id": 3, "class": "chair", "centroid": [1, 2, 0.5], "size": [0.5, 0.5, 1], "dynamic": false},
                       {"class": "person", "centroid": [0, 0, 1], "size": [0.4, 0.3, 1.7], "static": false},
-                      {"class": "whiteboard", "coco": false, "centroid": [0, 0, 1], "size": [1, 0, 1]}]})"));
+                      {"class": "whiteboard", "coco": false, "centroid": [0, 0, 1], "size": [1, 0, 1]},
+                      {"class": "person", "dynamic": true, "size": [0.68, 0.28, 1.75]}]})"));  // a walker: no place
   ASSERT_EQ(ok.size(), 3u);
   EXPECT_EQ(ok[0].id, 3);
   EXPECT_TRUE(ok[0].scored);
   EXPECT_FALSE(ok[1].scored);
   EXPECT_FALSE(ok[2].scored);
   EXPECT_THROW(LoadObjectTruth(write("[1, 2]")), InputError);
+  EXPECT_THROW(LoadObjectTruth(write(R"({"objects": [{"class": "chair", "size": [0.5, 0.5, 1]}]})")), InputError);
   try {
     LoadObjectTruth(write(R"({"objects": [{"class": "cup", "centroid": [1, 2], "size": [0.1, 0.1, 0.1]}]})"));
     FAIL();

@@ -46,23 +46,27 @@ std::vector<TrueObject> LoadObjectTruth(const std::filesystem::path& path) {
     throw InputError(name + ": not a list of true objects (a JSON object with an \"objects\" array)");
   }
   std::vector<TrueObject> out;
+  int index = 0;
   for (const nlohmann::json& o : doc.at("objects")) {
-    const std::string what = name + ": object " + std::to_string(out.size() + 1);
+    const std::string what = name + ": object " + std::to_string(++index);
     if (!o.is_object() || !o.contains("class") || !o.at("class").is_string()) {
       throw InputError(what + ": needs a \"class\" string");
     }
-    TrueObject t;
-    t.id = o.contains("id") && o.at("id").is_number_integer() ? o.at("id").get<int>() : static_cast<int>(out.size() + 1);
-    t.class_name = o.at("class").get<std::string>();
-    t.centroid = Vector3(o, "centroid", what);
-    t.size = Vector3(o, "size", what);
-    if ((t.size.array() < 0).any()) throw InputError(what + ": \"size\" must not be negative");
     const auto flag = [&](const char* key, bool fallback) {
       if (!o.contains(key)) return fallback;
       if (!o.at(key).is_boolean()) throw InputError(what + ": \"" + key + "\" must be true or false");
       return o.at(key).get<bool>();
     };
-    t.scored = !flag("dynamic", false) && flag("static", true) && flag("coco", true);
+    const bool moves = flag("dynamic", false) || !flag("static", true);
+    // A mover has no one place (sgslam synth gives none): nothing to match.
+    if (moves && !o.contains("centroid")) continue;
+    TrueObject t;
+    t.id = o.contains("id") && o.at("id").is_number_integer() ? o.at("id").get<int>() : index;
+    t.class_name = o.at("class").get<std::string>();
+    t.centroid = Vector3(o, "centroid", what);
+    t.size = Vector3(o, "size", what);
+    if ((t.size.array() < 0).any()) throw InputError(what + ": \"size\" must not be negative");
+    t.scored = !moves && flag("coco", true);
     out.push_back(std::move(t));
   }
   return out;

@@ -5,7 +5,8 @@
 // object, "class", "centroid" and "size" (m, axis-aligned in the ground truth's
 // world); optional "dynamic" (a mover: not a map object), "static": false (the
 // same), and "coco": false (a class the detector does not know: an estimate on it
-// is neither right nor wrong, and it is not missed).
+// is neither right nor wrong, and it is not missed). A mover without a centroid
+// (sgslam synth's walkers) is left out.
 //
 // The estimates, in the same world (the run's ATE alignment), are matched to the
 // true objects one to one, nearest first (a different class costs kClassPenalty
