@@ -8,7 +8,8 @@
 //  - semantic.filters.image_border: the image border strip (kImageBorder) stays out
 //    of the cloud.
 // And the semantic thread's own keyframe detector (semantic.keyframe_model) on the
-// same scene: the people it finds join the mask, its other classes do not.
+// same scene: the people it finds join the mask, its other classes do not; it runs
+// again only once the view has changed (kModelViewDeg, kModelViewMetres).
 // The other filters are off, so that each test sees its own alone.
 #include <gtest/gtest.h>
 
@@ -106,8 +107,9 @@ TEST(SeenMoving, AMoverTheDetectorMissedInOneKeyframeLeavesTheCloud) {
 // calls the static patch a chair, or that throws.
 class KeyframeDetector final : public Detector {
  public:
-  explicit KeyframeDetector(bool fail) : fail_(fail) {}
+  explicit KeyframeDetector(bool fail, int* calls = nullptr) : fail_(fail), calls_(calls) {}
   std::vector<Detection> Detect(const cv::Mat& bgr, Timestamp) override {
+    if (calls_) ++*calls_;
     if (fail_) throw std::runtime_error("broken network");
     EXPECT_EQ(bgr.type(), CV_8UC3);
     Detection chair = PersonBox(kStill);
@@ -118,18 +120,43 @@ class KeyframeDetector final : public Detector {
 
  private:
   bool fail_;
+  int* calls_;
 };
+
+// The keyframe model on every keyframe, whatever the view.
+SemanticMapOptions EveryKeyFrame() {
+  SemanticMapOptions o;
+  o.model_view_deg = o.model_view_metres = 0;
+  return o;
+}
 
 TEST(KeyframeDetector, ThePeopleItFindsLeaveTheCloudItsOtherClassesStay) {
   const Cloud off = BuildCloud(BaseConfig(), nullptr);
   EXPECT_GT(off.person, 50u);  // keyframe 3's view of the person
-  const Cloud on = BuildCloud(BaseConfig(), std::make_unique<KeyframeDetector>(false));
+  const Cloud on = BuildCloud(BaseConfig(), std::make_unique<KeyframeDetector>(false), EveryKeyFrame());
   EXPECT_EQ(on.person, 0u);
   EXPECT_EQ(on.still, off.still);  // its chair is no mover
   EXPECT_GT(on.still, 50u);
   // Its box masks the wall behind it too (boxes are masked whole), and only there.
   EXPECT_LE(on.wall, off.wall);
   EXPECT_GT(on.wall, off.wall * 95 / 100);
+}
+
+TEST(KeyframeDetector, RunsAgainOnlyOnANewView) {
+  // The five keyframes step 5 mm sideways: one view for the 0.10 m gate.
+  int calls = 0;
+  const Cloud gated = BuildCloud(BaseConfig(), std::make_unique<KeyframeDetector>(false, &calls));
+  EXPECT_EQ(calls, 1);
+  EXPECT_GT(gated.person, 50u);  // keyframe 3's person: only tracking's boxes there, which missed it
+  calls = 0;
+  BuildCloud(BaseConfig(), std::make_unique<KeyframeDetector>(false, &calls), EveryKeyFrame());
+  EXPECT_EQ(calls, 5);
+  // A gate of 1 cm: keyframes 0, 2 and 4 (10 mm from the last the model ran on).
+  SemanticMapOptions centimetre;
+  centimetre.model_view_metres = 0.0099;
+  calls = 0;
+  BuildCloud(BaseConfig(), std::make_unique<KeyframeDetector>(false, &calls), centimetre);
+  EXPECT_EQ(calls, 3);
 }
 
 TEST(KeyframeDetector, AFailingOneLeavesTrackingsBoxesAtWork) {

@@ -82,11 +82,13 @@ struct SemanticConfig {
   double depth_max = 5.0;    // m
   double cloud_voxel = 0.02;  // m, voxel side of the dense cloud (per keyframe and on export)
   double octomap_resolution = 0.03;  // m, OctoMap (ColorOcTree) voxel side
-  // A second, larger detector run on each keyframe in this thread (a Darknet file
-  // stem in detector.model_dir; used only with the dnn backend; empty: off). Its
-  // dynamic-class boxes join the keyframe's own in the mask, and its boxes give the
-  // objects: tracking keeps the fast model, the map gets the people the fast one
-  // misses and the better-named objects.
+  // A second, larger detector run in this thread on the keyframes with a new view
+  // (turned 5 degrees or moved 0.10 m from the last it ran on: SemanticMap::NewView)
+  // (a Darknet file stem in detector.model_dir; used only with the dnn backend;
+  // empty: off). Its dynamic-class boxes join the keyframe's own in the mask, and
+  // its boxes give the objects, which count their views on those keyframes alone:
+  // tracking keeps the fast model, the map gets the people the fast one misses and
+  // the better-named objects.
   std::string keyframe_model = "yolo-fastest-1.1-xl";
   // objects.json also lists the candidates, in a list of their own: objects not
   // confirmed yet (too few views, too little viewpoint change, seen too rarely when
@@ -104,7 +106,7 @@ struct SemanticConfig {
     v("cloud_voxel", cloud_voxel, "m, dense cloud voxel side");
     v("octomap_resolution", octomap_resolution, "m, OctoMap voxel side");
     v("keyframe_model", keyframe_model,
-      "Darknet model run again on keyframes for the dynamic mask and the objects (dnn backend); empty: off");
+      "Darknet model run again on keyframes with a new view (5 deg, 0.10 m) for the mask and the objects (dnn backend); empty: off");
     v("object_candidates", object_candidates, "objects.json also lists the unconfirmed or implausible objects");
     v("filters", filters, "the filters that keep movers out of the cloud and the OctoMap, each switchable");
   }

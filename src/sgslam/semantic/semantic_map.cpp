@@ -101,9 +101,10 @@ SemanticMap::StageMs SemanticMap::Add(const SemanticInput& input, const std::vec
   }
   StageMs ms;
   Stopwatch stage;
-  const KeyFrameBoxes boxes = Detect(input);
+  const KeyFrameBoxes boxes = Detect(input, T_w_c);
   const std::vector<Detection>& movers = boxes.movers;
   ms.detect = stage.ElapsedMs();
+  ms.model_ran = boxes.model_ran;
   stage.Restart();
   // surface: where the movers themselves were, for the seen-moving filter (a whole
   // box would mark the background behind a person as seen moving).
@@ -125,7 +126,9 @@ SemanticMap::StageMs SemanticMap::Add(const SemanticInput& input, const std::vec
   clouds_.push_back(std::move(cloud));
   ray_points_.push_back(std::move(ray_points));
   stage.Restart();
-  ObserveObjects(input, boxes.objects, T_w_c, movers_mask);
+  // A keyframe the keyframe model skipped (NewView) gives the objects no evidence,
+  // seen or missing: their views are counted on the model's keyframes alone.
+  if (boxes.model_ran || !keyframe_detector_) ObserveObjects(input, boxes.objects, T_w_c, movers_mask);
   ms.objects = stage.ElapsedMs();
   return ms;
 }
@@ -207,17 +210,29 @@ void SemanticMap::RebuildOctoMap() {
   for (std::size_t i = 0; i < clouds_.size(); ++i) octomap_.Insert(clouds_[i].points_c, ray_points_[i], T_w_c[i]);
 }
 
-SemanticMap::KeyFrameBoxes SemanticMap::Detect(const SemanticInput& input) {
-  // The keyframe's own boxes, plus what the larger keyframe model finds: its movers
-  // join the mask, its other boxes give the objects (it names them better).
+bool SemanticMap::NewView(const SE3& T_w_c) const {
+  if (!model_T_w_c_) return true;
+  const double scale = std::ldexp(1.0, std::clamp(model_level_.load(), 0, 16));
+  const SE3 d = model_T_w_c_->Inverse() * T_w_c;
+  const double angle_deg = Eigen::AngleAxisd(d.rotation()).angle() * 180.0 / M_PI;
+  return angle_deg >= options_.model_view_deg * scale || d.translation().norm() >= options_.model_view_metres * scale;
+}
+
+SemanticMap::KeyFrameBoxes SemanticMap::Detect(const SemanticInput& input, const SE3& T_w_c) {
+  // The keyframe's own boxes, plus what the larger keyframe model finds on a new
+  // view: its movers join the mask, its other boxes give the objects (it names
+  // them better). The mask needs it little (tracking's boxes and the motion
+  // segments hold the movers): docs/experiments.md, keyframe model.
   KeyFrameBoxes boxes;
   boxes.movers = input.keyframe->features->detections;
-  if (keyframe_detector_) {
+  if (keyframe_detector_ && NewView(T_w_c)) {
     try {
       boxes.objects = keyframe_detector_->Detect(input.bgr, input.keyframe->t);
       for (const Detection& d : boxes.objects) {
         if (classes_.is_dynamic(d.class_name)) boxes.movers.push_back(d);
       }
+      boxes.model_ran = true;
+      model_T_w_c_ = T_w_c;
       return boxes;
     } catch (const std::exception& e) {
       // The map goes on with tracking's boxes; the thread must not die with it.
@@ -225,7 +240,7 @@ SemanticMap::KeyFrameBoxes SemanticMap::Detect(const SemanticInput& input) {
       keyframe_detector_.reset();
     }
   }
-  boxes.objects = input.keyframe->features->detections;
+  if (!keyframe_detector_) boxes.objects = input.keyframe->features->detections;
   return boxes;
 }
 

@@ -15,7 +15,9 @@
 // shared lock, never holding another.
 #pragma once
 
+#include <atomic>
 #include <filesystem>
+#include <optional>
 #include <memory>
 #include <unordered_map>
 #include <utility>
@@ -55,11 +57,17 @@ inline constexpr double kSeenMovingRatio = 3.0;
 // movers 0.91 % -> 0.53 %, OctoMap path cells 6.0 % -> 0.73 %; 2: 0.65 % / 2.0 %;
 // 4: 0.46 % / 0.48 % with 10 % fewer points on the static fr1_rpy).
 inline constexpr int kMinViewSupport = 3;
+// The keyframe detector's view gate (SemanticMap::SetModelLevel): it runs again
+// once the view turned this much or moved this far from its last keyframe.
+inline constexpr double kModelViewDeg = 5.0;
+inline constexpr double kModelViewMetres = 0.10;
 
-// The export filters' parameters that the tests vary; the pipeline passes the
-// constants.
+// The export filters' and the keyframe model's parameters that the tests vary;
+// the pipeline passes the constants.
 struct SemanticMapOptions {
   double seen_moving_ratio = kSeenMovingRatio;  // see kSeenMovingRatio
+  double model_view_deg = kModelViewDeg;        // see kModelViewDeg (0 and 0: every keyframe)
+  double model_view_metres = kModelViewMetres;
 };
 
 struct SemanticInput {
@@ -95,6 +103,7 @@ class SemanticMap {
 
   struct StageMs {  // what Add spent on each step
     double detect = 0, mask = 0, cloud = 0, octomap = 0, objects = 0;
+    bool model_ran = false;  // the keyframe detector ran on this keyframe
   };
   // One keyframe: its movers (its boxes and the keyframe detector's), its dynamic
   // pixel mask (with `carried`, the box window's boxes), its static cloud, the
@@ -102,6 +111,10 @@ class SemanticMap {
   StageMs Add(const SemanticInput& input, const std::vector<CarriedBox>& carried);
   std::size_t keyframes() const { return clouds_.size(); }
   bool has_keyframe_detector() const { return has_keyframe_detector_; }
+  // The keyframe detector runs on a keyframe whose view turned at least
+  // kModelViewDeg or moved kModelViewMetres, times 2^level, from the last keyframe
+  // it ran on (the CPU budget raises the level: system/cpu_budget.h). Any thread.
+  void SetModelLevel(int level) { model_level_.store(level); }
 
   // Map reuse: a copy of the state (keyframes shared); Restore starts from one
   // (before the first Add; the keyframes are in the map), then RebuildOctoMap
@@ -151,8 +164,11 @@ class SemanticMap {
   struct KeyFrameBoxes {
     std::vector<Detection> movers;   // the keyframe's boxes and the keyframe model's movers
     std::vector<Detection> objects;  // the keyframe model's boxes, else the keyframe's own
+    bool model_ran = false;          // the keyframe model gave them (objects: none when it did not run)
   };
-  KeyFrameBoxes Detect(const SemanticInput& input);
+  KeyFrameBoxes Detect(const SemanticInput& input, const SE3& T_w_c);
+  // The keyframe detector's view gate (SetModelLevel).
+  bool NewView(const SE3& T_w_c) const;
   // surface: the movers' own pixels, for the seen-moving filter; null when that is off.
   cv::Mat DynamicMask(const SemanticInput& input, const std::vector<Detection>& movers,
                       const std::vector<CarriedBox>& carried, cv::Mat* surface) const;
@@ -190,6 +206,8 @@ class SemanticMap {
   ClassTable classes_;
   std::unique_ptr<Detector> keyframe_detector_;  // reset if it fails
   const bool has_keyframe_detector_;
+  std::optional<SE3> model_T_w_c_;  // the last keyframe the keyframe detector ran on (at the time)
+  std::atomic<int> model_level_{0};
   std::vector<KeyFrameCloud> clouds_;
   std::vector<std::vector<ColoredPoint>> ray_points_;  // per cloud: the free-space ray ends, for the rebuilds
   OctoMapBuilder octomap_;

@@ -183,7 +183,12 @@ SemanticStats SemanticMapper::stats() const {
   s.median_mask_ms = median(&SemanticMap::StageMs::mask);
   s.median_cloud_ms = median(&SemanticMap::StageMs::cloud);
   s.median_octomap_ms = median(&SemanticMap::StageMs::octomap);
-  if (map_.has_keyframe_detector()) s.median_detect_ms = median(&SemanticMap::StageMs::detect);
+  std::vector<double> detect;
+  for (const SemanticMap::StageMs& m : stage_ms_) {
+    if (m.model_ran) detect.push_back(m.detect);
+  }
+  s.model_keyframes = detect.size();
+  s.median_detect_ms = Median(std::move(detect));
   s.median_objects_ms = median(&SemanticMap::StageMs::objects);
   return s;
 }

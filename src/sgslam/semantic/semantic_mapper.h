@@ -44,7 +44,8 @@ namespace sgslam {
 struct SemanticStats {
   std::size_t keyframes = 0, dropped = 0;
   std::vector<double> ms;  // per processed keyframe: keyframe detector + mask + cloud + OctoMap + objects
-  double median_detect_ms = 0;  // the keyframe detector (semantic.keyframe_model), when there is one
+  double median_detect_ms = 0;  // the keyframe detector (semantic.keyframe_model) where it ran
+  std::size_t model_keyframes = 0;  // keyframes it ran on (SemanticMap::NewView)
   double median_mask_ms = 0, median_cloud_ms = 0, median_octomap_ms = 0, median_objects_ms = 0;
   std::size_t cloud_points = 0, cloud_points_freed = 0;  // exported, and removed by the free-space filter
 };
@@ -73,6 +74,8 @@ class SemanticMapper {
   void RequestOctoMap(const std::filesystem::path& path);
   std::size_t octomaps_written() const;
   bool has_keyframe_detector() const { return map_.has_keyframe_detector(); }
+  // The keyframe detector's view gate, times 2^level (SemanticMap::SetModelLevel; any thread).
+  void SetModelLevel(int level) { map_.SetModelLevel(level); }
 
   // Calls fn with a copy of the semantic map's state (keyframes shared): at once in
   // sequential mode or after Finish(), else on the semantic thread after the
