@@ -136,7 +136,7 @@ void WriteLiveOutputs(const std::filesystem::path& out, SlamSystem& system, cons
 void WriteFramesCsv(const std::filesystem::path& path, const std::vector<FrameReport>& reports) {
   std::ostringstream csv;
   csv << "index,timestamp,state,features,kept,rejected_geometry,rejected_semantics,rejected_depth,detections,"
-         "carried,followed,detector_late,matches,inliers,trusted,keyframe,map_keyframes,map_points,rss_mib,extract_ms,detector_ms,wait_ms,reject_ms,track_ms,total_ms,predicted,movers,movers_ms\n";
+         "carried,followed,detector_late,matches,inliers,trusted,keyframe,map_keyframes,map_points,rss_mib,extract_ms,detector_ms,wait_ms,reject_ms,track_ms,total_ms,predicted,movers,movers_ms,budget_level\n";
   for (const auto& r : reports) {
     csv << r.index << ',' << FormatTimestamp(r.t) << ',' << ToString(r.state) << ',' << r.features << ',' << r.kept
         << ',' << r.rejected_geometry << ',' << r.rejected_semantics << ',' << r.rejected_depth << ','
@@ -144,7 +144,7 @@ void WriteFramesCsv(const std::filesystem::path& path, const std::vector<FrameRe
         << r.inliers << ',' << r.trusted << ',' << (r.keyframe ? 1 : 0) << ',' << r.map_keyframes << ','
         << r.map_points << ',' << r.rss_mib << ',' << r.extract_ms << ','
         << r.detector_ms << ',' << r.wait_ms << ',' << r.reject_ms << ',' << r.track_ms << ',' << r.total_ms << ',' << r.predicted << ','
-        << r.movers << ',' << r.movers_ms << '\n';
+        << r.movers << ',' << r.movers_ms << ',' << r.budget_level << '\n';
   }
   WriteFileAtomically(path, csv.str());
 }
@@ -176,6 +176,7 @@ nlohmann::json WriteSemanticMap(const std::filesystem::path& out, SlamSystem& sy
           {"keyframes_dropped", st.dropped},
           {"median_keyframe_ms", Median(st.ms)},
           {"median_detect_ms", st.median_detect_ms},
+          {"keyframe_model_keyframes", st.model_keyframes},
           {"median_mask_ms", st.median_mask_ms},
           {"median_cloud_ms", st.median_cloud_ms},
           {"median_octomap_ms", st.median_octomap_ms},
@@ -239,6 +240,7 @@ nlohmann::json DynamicJson(const std::vector<FrameReport>& reports, const SlamSy
           {"detector", system.DescribeDetector()},
           {"detector_late_frames", late},
           {"detector_submitted", d.submitted},
+          {"detector_share", reports.empty() ? 0.0 : static_cast<double>(d.submitted) / reports.size()},
           {"detector_processed", d.processed},
           {"detector_dropped", d.dropped},
           {"detector_errors", d.errors}};
@@ -358,6 +360,16 @@ nlohmann::json SystemStatsJson(const Config& config, const RunTotals& totals, co
                           {"local_mapping", LocalMappingJson(system)},
                           {"loop", LoopJson(reports, system)}};
   if (const movers::MoverTracker* tracker = system.mover_tracker()) stats["tracks"] = TracksJson(reports, *tracker);
+  if (const CpuBudget& b = system.cpu_budget(); b.enabled()) {
+    std::vector<double> levels;
+    for (const FrameReport& r : reports) levels.push_back(r.budget_level);
+    stats["budget"] = {{"cores", b.cores()},
+                       {"windows", b.windows()},
+                       {"windows_over", b.windows_over()},
+                       {"level_max", b.max_level_reached()},
+                       {"level_median", Median(std::move(levels))},
+                       {"last_cores_used", b.last_usage() ? nlohmann::json(*b.last_usage()) : nlohmann::json(nullptr)}};
+  }
   if (const auto& gba = system.final_ba(); gba && gba->local_keyframes > 0) {
     spdlog::info("final bundle adjustment: {} keyframes, {} points, {:.2f} s", gba->local_keyframes, gba->local_points,
                  gba->ms / 1000.0);

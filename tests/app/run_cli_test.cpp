@@ -151,6 +151,49 @@ TEST(RunCommand, DetectionsOfTheRunAreSavedForReplay) {
   EXPECT_FALSE(fs::exists(tmp / "out2" / "detections.txt"));
 }
 
+// budget.cores: a budget no run can keep throttles the detector one level a window
+// (every (level + 1)-th frame), says so in frames.csv and stats.json and warns once
+// at the top level; a budget of the whole machine changes nothing.
+TEST(RunCommand, ACpuBudgetLowersTheDetectorsRate) {
+  TempDir tmp;
+  const auto synth = RunSgslam({"synth", "--preset", "walkers", "--frames", "160", "--out", (tmp / "walk").string()});
+  ASSERT_EQ(synth.exit_code, 0) << synth.output;
+  const auto run = [&](const std::string& name, double cores) {
+    std::ofstream(tmp / (name + ".yaml")) << "budget:\n  cores: " << cores << "\n";
+    const auto r = RunSgslam({"run", "--dataset", (tmp / "walk").string(), "--out", (tmp / name).string(), "--mode",
+                              "sg", "--sequential", "--config", (tmp / (name + ".yaml")).string()});
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    std::ifstream stats_file(tmp / name / "stats.json");
+    return std::make_pair(nlohmann::json::parse(stats_file), r.output);
+  };
+  const auto [tight, tight_log] = run("tight", 0.01);
+  ASSERT_TRUE(tight.contains("budget")) << tight.dump();
+  const nlohmann::json& b = tight["budget"];
+  EXPECT_EQ(b["cores"], 0.01);
+  EXPECT_EQ(b["windows"], 5);  // 160 frames: the first opens, then 30 a window
+  EXPECT_EQ(b["windows_over"], b["windows"]);
+  EXPECT_EQ(b["level_max"], 4);
+  EXPECT_GT(b["last_cores_used"].get<double>(), 0.01);
+  // Levels 1-4 over the windows: the detector ran on far fewer frames than at level 0.
+  const int submitted = tight["dynamic"]["detector_submitted"];
+  // Level 0 for 31 frames, then 1, 2, 3, 4 for 30 each: 31 + 15 + 10 + 8 + 6 (+1 at each change).
+  EXPECT_LT(submitted, 80) << "of 160";
+  EXPECT_GT(submitted, 60) << "of 160";
+  EXPECT_NE(tight_log.find("budget.cores 0.01: the run needs"), std::string::npos) << tight_log;
+  std::ifstream csv(tmp / "tight" / "frames.csv");
+  std::string header, line, last;
+  std::getline(csv, header);
+  EXPECT_EQ(header.substr(header.rfind(',') + 1), "budget_level");
+  while (std::getline(csv, line)) last = line;
+  EXPECT_EQ(last.substr(last.rfind(',') + 1), "4");
+
+  const auto [loose, loose_log] = run("loose", 64);
+  EXPECT_EQ(loose["budget"]["level_max"], 0) << loose.dump();
+  EXPECT_EQ(loose["budget"]["windows_over"], 0);
+  EXPECT_EQ(loose["dynamic"]["detector_submitted"], 160);
+  EXPECT_EQ(loose_log.find("budget.cores"), std::string::npos) << loose_log;
+}
+
 TEST(RunCommand, UsageErrorsExitWith2) {
   ExpectFailure({"run"}, 2, {"--dataset"});
   ExpectFailure({"run", "--dataset", "x", "--mode", "magic"}, 2, {"magic"});

@@ -16,6 +16,7 @@
 #include "sgslam/loop/loop_config.h"
 #include "sgslam/mapping/mapping_config.h"
 #include "sgslam/semantic/semantic_config.h"
+#include "sgslam/config/budget_config.h"
 #include "sgslam/tracking/tracking_config.h"
 
 namespace sgslam {
@@ -30,6 +31,7 @@ struct Config {
   DynamicConfig dynamic;
   SemanticConfig semantic;
   LoopConfig loop;
+  BudgetConfig budget;
 
   template <class V>
   void VisitSections(V&& v) {
@@ -42,6 +44,7 @@ struct Config {
     v("dynamic", dynamic);
     v("semantic", semantic);
     v("loop", loop);
+    v("budget", budget);
   }
   template <class V>
   void VisitSections(V&& v) const {

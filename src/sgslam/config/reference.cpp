@@ -22,6 +22,7 @@ const char* SectionPurpose(const std::string& section) {
   if (section == "dynamic") return "Dynamic feature rejection (the paper's Algorithm 1) and the RGB-D check.";
   if (section == "semantic") return "The semantic mapping thread: static cloud, OctoMap, 3-D objects.";
   if (section == "loop") return "Place recognition: relocalisation from the whole map, loop closing.";
+  if (section == "budget") return "A CPU budget for robots: the detector and the keyframe model run less to keep under it.";
   return "";
 }
 

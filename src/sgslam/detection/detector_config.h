@@ -23,7 +23,8 @@ struct DetectorConfig {
   int threads = 1;                  // OpenCV threads of the whole process (cv::setNumThreads); 0: OpenCV's default
   int timeout_ms = 100;             // ms tracking waits for the frame's detections (inference: 10-20 ms here)
   // The detector runs on every stride-th frame; the frames between take the last
-  // boxes moved with the flow of the keypoints inside them (NGD-SLAM's idea).
+  // boxes moved with the flow of the keypoints inside them (NGD-SLAM's idea) and
+  // the mover tracks' predicted boxes (dynamic.refinements.track_footprints).
   int stride = 1;
   std::string detections_file;      // backend file; empty: <dataset>/detections.txt
   // A table given in YAML replaces the whole default table; classes not in it weigh 1.

@@ -69,7 +69,8 @@ DynamicStage::DynamicStage(const DynamicConfig& config, const DetectorConfig& de
 std::string DynamicStage::DescribeDetector() const { return worker_ ? worker_->Describe() : "none"; }
 
 void DynamicStage::Submit(std::uint64_t frame_id, Timestamp t, const cv::Mat& bgr) {
-  submitted_ = worker_ && submits_++ % static_cast<std::uint64_t>(stride_) == 0;
+  submitted_ = worker_ && (submits_++ == 0 || since_detector_ + 1 >= stride_ * stride_factor_);
+  since_detector_ = submitted_ ? 0 : since_detector_ + 1;
   if (submitted_) worker_->Submit(frame_id, t, bgr);
 }
 
@@ -192,7 +193,7 @@ void DynamicStage::AwaitBoxes(std::uint64_t frame_id, const dynamic::PairSet& pa
       out.detector_late = true;  // carry on geometry-only for this frame
     }
   }
-  if (stride_ > 1) last_boxes_ = out.detections;
+  if (stride_ > 1 || stride_factor_ > 1) last_boxes_ = out.detections;
   // Late or not, the moving objects of the last frames are still about.
   std::vector<Detection> carried = carrier_.Carry(out.detections, pairs.cur, pairs.flow, image);
   out.carried = static_cast<int>(carried.size());

@@ -21,6 +21,7 @@
 // DetectionWorker's thread (or inside Submit in sequential mode).
 #pragma once
 
+#include <algorithm>
 #include <chrono>
 #include <memory>
 #include <vector>
@@ -80,9 +81,12 @@ class DynamicStage {
   bool has_detector() const { return worker_ != nullptr; }
   std::string DescribeDetector() const;
 
-  // Hands the colour image to the detector on every detector.stride-th call (no-op
-  // without one); the frames between follow the last boxes (Label).
+  // Hands the colour image to the detector on every (detector.stride x the stride
+  // factor)-th call (no-op without one); the frames between follow the last boxes
+  // and take the mover tracks' predicted ones (Label).
   void Submit(std::uint64_t frame_id, Timestamp t, const cv::Mat& bgr);
+  // The factor of detector.stride (the CPU budget's throttle); from the next Submit.
+  void SetStrideFactor(int factor) { stride_factor_ = std::max(1, factor); }
 
   // Labels the keypoints (raw, distorted positions) of the frame just submitted.
   // depth_raw feeds the RGB-D check (dynamic.refinements.depth_check). predicted:
@@ -130,6 +134,8 @@ class DynamicStage {
   ClassTable classes_;
   const std::chrono::milliseconds timeout_;  // detector.timeout_ms
   const int stride_;                          // detector.stride
+  int stride_factor_ = 1;                     // SetStrideFactor
+  int since_detector_ = 0;                    // Submit calls since the last one that went to the detector
   std::unique_ptr<DetectionWorker> worker_;
   std::uint64_t submits_ = 0;  // Submit calls
   bool submitted_ = false;     // the frame being labelled went to the detector

@@ -60,6 +60,7 @@ SlamSystem::SlamSystem(const Config& config, bool sequential, std::unique_ptr<De
       places_(MakeKeyFrameDatabase(config.loop)),
       tracker_(config.tracking, config.orb.features, config.camera, map_, places_),
       mapper_(config.mapping, config.camera.close_depth_m(), map_, places_),
+      budget_(config.budget.cores),
       mapping_("sg-mapping", kMappingQueueSize),
       loops_("sg-loop", kLoopQueueSize) {
   // orb.threads 0: a helper thread only where a core is free for it; on two
@@ -220,10 +221,31 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
     semantic_->AddFrame(frame.id, frame.T_c_w, tracked ? frame.features->detections : kNone, images.depth);
   }
   NoteMapSize(report);
+  ApplyBudget(images.t, report);
   report.rss_mib = RssMiB();
   report.total_ms = total.ElapsedMs();
   if (snapshots_) PublishFrame(frame, images, report);
   return report;
+}
+
+void SlamSystem::ApplyBudget(Timestamp t, FrameReport& report) {
+  if (!budget_.enabled()) return;
+  const int before = budget_.level();
+  const int level = budget_.Update(t, ProcessCpuSeconds());
+  report.budget_level = level;
+  if (level != before) {
+    dynamic_.SetStrideFactor(level + 1);
+    if (semantic_) semantic_->SetModelLevel(level);
+    spdlog::debug("CPU budget: {:.2f} cores used over {}, throttle level {} -> {}", budget_.last_usage().value_or(0),
+                  budget_.cores(), before, level);
+  }
+  if (level == CpuBudget::kMaxLevel && before == level && !budget_warned_ && budget_.last_usage() &&
+      *budget_.last_usage() > budget_.cores()) {
+    budget_warned_ = true;
+    spdlog::warn("budget.cores {}: the run needs {:.2f} cores at the camera's rate with the detector and the keyframe "
+                 "model at their lowest rates; tracking and mapping are not throttled",
+                 budget_.cores(), *budget_.last_usage());
+  }
 }
 
 void SlamSystem::NoteMapSize(FrameReport& report) {

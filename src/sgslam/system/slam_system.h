@@ -32,6 +32,7 @@
 #include "sgslam/movers/mover_tracker.h"
 #include "sgslam/movers/tracks_file.h"
 #include "sgslam/semantic/semantic_mapper.h"
+#include "sgslam/system/cpu_budget.h"
 #include "sgslam/system/dynamic_stage.h"
 #include "sgslam/system/snapshot.h"
 #include "sgslam/tracking/tracker.h"
@@ -56,6 +57,7 @@ struct FrameReport {
   int movers = 0;                // confirmed mover tracks after this frame
   double movers_ms = 0;          // the mover tracker: the predicted boxes and the update
   int followed = 0;              // between detector frames (detector.stride): the last boxes moved with the flow
+  int budget_level = 0;          // the CPU budget's throttle after this frame (budget.cores; system/cpu_budget.h)
   std::vector<Detection> boxes;  // this frame's detections, without the carried (written to detections.txt)
   bool detector_late = false;  // tracking stopped waiting: geometry-only frame
   double detector_ms = 0;      // inference time of this frame (detector thread)
@@ -115,6 +117,8 @@ class SlamSystem {
   std::vector<GlobalBaReport> global_ba_reports() const;
   bool place_recognition() const { return places_ != nullptr; }
   DetectionWorkerStats detector_stats() const { return dynamic_.detector_stats(); }
+  // budget.cores: the controller (its level and windows), from the Process() thread.
+  const CpuBudget& cpu_budget() const { return budget_; }
   // The mover tracks at every tracked frame, in the frame of FrameTrajectory() (the
   // map's later corrections applied as to the frame's pose); empty in mode none.
   std::vector<movers::TrackLine> MoverTracks() const;
@@ -166,6 +170,9 @@ class SlamSystem {
   void UpdateMovers(const Frame& frame, const TrackResult& result, const RgbdImages& images, FrameReport& report);
   // The map's size into the report; at mapping.max_keyframes, localisation only.
   void NoteMapSize(FrameReport& report);
+  // budget.cores: the controller's verdict after a frame, applied to the detector's
+  // stride and the keyframe model's view gate.
+  void ApplyBudget(Timestamp t, FrameReport& report);
   TrackResult Track(Frame& frame, FrameReport& report);
   void RecordPoses(const Frame& frame, const TrackResult& result);
   void HandOverKeyFrames(const Frame& frame, const TrackResult& result, const RgbdImages& images,
@@ -218,6 +225,8 @@ class SlamSystem {
     movers::TrackState state;
   };
   std::vector<TrackSample> track_samples_;
+  CpuBudget budget_;            // budget.cores
+  bool budget_warned_ = false;  // the budget is below what tracking and mapping need
   std::uint64_t next_frame_id_ = 0;
   std::uint64_t last_keyframe_frame_id_ = 0;  // for the mapping-busy rule (slam_system.cpp)
   std::optional<std::size_t> map_full_at_;     // mapping.max_keyframes reached at this frame
