@@ -230,7 +230,7 @@ FrameReport SlamSystem::Process(const RgbdImages& images) {
 
 void SlamSystem::ApplyBudget(Timestamp t, FrameReport& report) {
   if (!budget_.enabled()) return;
-  const int before = budget_.level();
+  const int before = budget_.level(), windows = budget_.windows();
   const int level = budget_.Update(t, ProcessCpuSeconds());
   report.budget_level = level;
   if (level != before) {
@@ -239,8 +239,9 @@ void SlamSystem::ApplyBudget(Timestamp t, FrameReport& report) {
     spdlog::debug("CPU budget: {:.2f} cores used over {}, throttle level {} -> {}", budget_.last_usage().value_or(0),
                   budget_.cores(), before, level);
   }
-  if (level == CpuBudget::kMaxLevel && before == level && !budget_warned_ && budget_.last_usage() &&
-      *budget_.last_usage() > budget_.cores()) {
+  // A whole window at the top level over the budget: nothing left to lower.
+  if (budget_.windows() > windows && before == CpuBudget::kMaxLevel && !budget_warned_ &&
+      budget_.last_usage().value_or(0) > budget_.cores()) {
     budget_warned_ = true;
     spdlog::warn("budget.cores {}: the run needs {:.2f} cores at the camera's rate with the detector and the keyframe "
                  "model at their lowest rates; tracking and mapping are not throttled",
