@@ -93,9 +93,9 @@ struct SemanticState {
 
 class SemanticMap {
  public:
-  // keyframe_detector (optional): run on every keyframe's colour image; its
-  // dynamic-class boxes join the keyframe's in the dynamic mask
-  // (semantic.keyframe_model). camera: the keyframes'; classes: which detections
+  // keyframe_detector (optional): run on the colour image of each keyframe with a
+  // new view (NewView); its dynamic-class boxes join the keyframe's in the dynamic
+  // mask, its others give the objects (semantic.keyframe_model). camera: the keyframes'; classes: which detections
   // are movers; map: the keyframes' poses.
   SemanticMap(const SemanticConfig& config, std::shared_ptr<const Camera> camera, ClassTable classes,
               const Map& map, std::unique_ptr<Detector> keyframe_detector = nullptr,

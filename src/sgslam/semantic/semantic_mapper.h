@@ -52,9 +52,9 @@ struct SemanticStats {
 
 class SemanticMapper {
  public:
-  // keyframe_detector (optional): run on every keyframe's colour image; its
-  // dynamic-class boxes join the keyframe's in the dynamic mask
-  // (semantic.keyframe_model). Used by the semantic thread alone.
+  // keyframe_detector (optional): run on the colour image of each keyframe with a
+  // new view (SemanticMap::NewView); its dynamic-class boxes join the keyframe's in
+  // the dynamic mask, its others give the objects (semantic.keyframe_model). Used by the semantic thread alone.
   // camera: the keyframes' camera; classes: which detections are movers.
   SemanticMapper(const SemanticConfig& config, std::shared_ptr<const Camera> camera, ClassTable classes,
                  const Map& map, bool sequential, std::unique_ptr<Detector> keyframe_detector = nullptr);
