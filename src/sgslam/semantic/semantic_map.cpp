@@ -222,7 +222,8 @@ SemanticMap::KeyFrameBoxes SemanticMap::Detect(const SemanticInput& input, const
   // The keyframe's own boxes, plus what the larger keyframe model finds on a new
   // view: its movers join the mask, its other boxes give the objects (it names
   // them better). The mask needs it little (tracking's boxes and the motion
-  // segments hold the movers): docs/experiments.md, keyframe model.
+  // segments hold the movers): docs/experiments.md, "The keyframe model on fewer
+  // keyframes".
   KeyFrameBoxes boxes;
   boxes.movers = input.keyframe->features->detections;
   if (keyframe_detector_ && NewView(T_w_c)) {
