@@ -54,7 +54,7 @@ struct Cloud {
 // keyframe_detector: the semantic thread's own (semantic.keyframe_model), if any;
 // options: the export filters' parameters.
 Cloud BuildCloud(const Config& config, std::unique_ptr<Detector> keyframe_detector = nullptr,
-                 const SemanticMapOptions& options = {}) {
+                 const SemanticMapOptions& options = {}, int model_level = 0) {
   std::vector<cv::Mat> depths;
   std::vector<std::vector<Detection>> boxes(5);
   for (int k = 0; k < 5; ++k) {
@@ -66,7 +66,7 @@ Cloud BuildCloud(const Config& config, std::unique_ptr<Detector> keyframe_detect
     depths.push_back(depth);
   }
   const test::SteppedCloud cloud =
-      test::ExportSteppedKeyframes(config, depths, boxes, std::move(keyframe_detector), options);
+      test::ExportSteppedKeyframes(config, depths, boxes, std::move(keyframe_detector), options, model_level);
   Cloud c;
   c.points = cloud.points;
   for (const Eigen::Vector3d& p : c.points) {
@@ -157,6 +157,10 @@ TEST(KeyframeDetector, RunsAgainOnlyOnANewView) {
   calls = 0;
   BuildCloud(BaseConfig(), std::make_unique<KeyframeDetector>(false, &calls), centimetre);
   EXPECT_EQ(calls, 3);
+  // The CPU budget's level 1 doubles the gate: keyframes 0 and 4.
+  calls = 0;
+  BuildCloud(BaseConfig(), std::make_unique<KeyframeDetector>(false, &calls), centimetre, 1);
+  EXPECT_EQ(calls, 2);
 }
 
 TEST(KeyframeDetector, AFailingOneLeavesTrackingsBoxesAtWork) {

@@ -22,14 +22,16 @@ struct SteppedCloud {
 
 // depths[k]: keyframe k's raw depth (5000 per metre); boxes[k], if given, its detections;
 // keyframe_detector, if given, the semantic thread's own (semantic.keyframe_model);
-// options: the export filters' parameters (default: the pipeline's constants).
+// options: the export filters' parameters (default: the pipeline's constants);
+// model_level: the keyframe detector's view gate level (SemanticMap::SetModelLevel).
 inline SteppedCloud ExportSteppedKeyframes(const Config& config, const std::vector<cv::Mat>& depths,
                                            const std::vector<std::vector<Detection>>& boxes = {},
                                            std::unique_ptr<Detector> keyframe_detector = nullptr,
-                                           const SemanticMapOptions& options = {}) {
+                                           const SemanticMapOptions& options = {}, int model_level = 0) {
   Map map;
   SemanticMap semantic(config.semantic, std::make_shared<Camera>(config.camera), ClassTable(config.detector), map,
                        std::move(keyframe_detector), options);
+  semantic.SetModelLevel(model_level);
   const auto camera = std::make_shared<Camera>(config.camera);
   const auto scale = std::make_shared<ScaleLevels>(features::MakeScaleLevels(1.2, 8));
   const cv::Mat bgr(depths.at(0).size(), CV_8UC3, cv::Scalar(90, 120, 150));
