@@ -4,6 +4,7 @@
 // are judged with their class weight instead of by the epipolar test alone.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <map>
 #include <opencv2/features2d.hpp>
 #include <opencv2/imgproc.hpp>
@@ -130,11 +131,13 @@ class CountingDetector : public Detector {
 
 struct StrideTally {
   int detector_calls = 0, followed_frames = 0;
+  int followed_without_boxes = 0;  // followed frames without a followed box (the walkers are in all 24)
   int moving = 0, moving_rejected = 0, still = 0, still_rejected = 0;
   std::vector<double> ious;  // of each followed box with the best-overlapping true box
 };
 
-StrideTally RunStride(int stride) {
+// factor, from frame factor_from of the 24 on: DynamicStage::SetStrideFactor (the CPU budget's throttle).
+StrideTally RunStride(int stride, int factor = 1, int factor_from = 0) {
   constexpr int kFirst = 30, kFrames = 24;
   const synth::SynthSequence& seq = dynamic::test::Sequence("walkers");
   Config config = WalkersConfig(seq);
@@ -151,9 +154,12 @@ StrideTally RunStride(int stride) {
   StrideTally tally;
   for (int i = kFirst; i < kFirst + kFrames; ++i) {
     const synth::RenderedFrame& f = dynamic::test::Frame("walkers", i);
+    if (factor > 1 && i == kFirst + factor_from) stage.SetStrideFactor(factor);
     const auto [keys, out] = SubmitAndLabel(stage, i, f);
     if (out.followed) {
       ++tally.followed_frames;
+      tally.followed_without_boxes +=
+          std::none_of(out.detections.begin(), out.detections.end(), [](const Detection& d) { return d.carried == 0; });
       const std::vector<Detection> truth = counting->boxes.at(f.t);
       for (const Detection& d : out.detections) {
         double best = 0;
@@ -191,6 +197,17 @@ TEST(DynamicStage, BetweenDetectorFramesTheBoxesFollowTheFlow) {
   ASSERT_GT(third.moving, 200);
   EXPECT_GT(share(third.moving_rejected, third.moving), share(every.moving_rejected, every.moving) - 0.08);
   EXPECT_LT(share(third.still_rejected, third.still), share(every.still_rejected, every.still) + 0.02);
+  EXPECT_EQ(third.followed_without_boxes, 0);
+}
+
+// The CPU budget turns a stride-1 stage to every third frame halfway: the first
+// skipped frame follows the boxes of the frame before it.
+TEST(DynamicStage, AStrideFactorSetMidRunFollowsTheLastBoxes) {
+  const StrideTally throttled = RunStride(1, 3, 12);
+  EXPECT_EQ(throttled.detector_calls, 12 + 4);  // frames 0-11, then 14, 17, 20, 23
+  EXPECT_EQ(throttled.followed_frames, 8);
+  EXPECT_EQ(throttled.followed_without_boxes, 0);
+  EXPECT_GT(Median(throttled.ious), 0.85);
 }
 
 }  // namespace

@@ -193,7 +193,7 @@ void DynamicStage::AwaitBoxes(std::uint64_t frame_id, const dynamic::PairSet& pa
       out.detector_late = true;  // carry on geometry-only for this frame
     }
   }
-  if (stride_ > 1 || stride_factor_ > 1) last_boxes_ = out.detections;
+  last_boxes_ = out.detections;  // every frame: the stride factor may change at any frame
   // Late or not, the moving objects of the last frames are still about.
   std::vector<Detection> carried = carrier_.Carry(out.detections, pairs.cur, pairs.flow, image);
   out.carried = static_cast<int>(carried.size());
