@@ -9,6 +9,7 @@
 #include <spdlog/spdlog.h>
 
 #include "sgslam/camera/camera.h"
+#include "sgslam/common/se3.h"
 #include "sgslam/common/stats.h"
 #include "sgslam/map/keyframe.h"
 #include "sgslam/map/map.h"
@@ -214,7 +215,7 @@ bool SemanticMap::NewView(const SE3& T_w_c) const {
   if (!model_T_w_c_) return true;
   const double scale = std::ldexp(1.0, std::clamp(model_level_.load(), 0, 16));
   const SE3 d = model_T_w_c_->Inverse() * T_w_c;
-  const double angle_deg = Eigen::AngleAxisd(d.rotation()).angle() * 180.0 / M_PI;
+  const double angle_deg = so3::Log(d.quaternion()).norm() * 180.0 / M_PI;
   return angle_deg >= options_.model_view_deg * scale || d.translation().norm() >= options_.model_view_metres * scale;
 }
 
